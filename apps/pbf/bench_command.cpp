@@ -1,0 +1,145 @@
+// `pbf bench`: throughput of the solver on the dam break at several sizes.
+//
+// For each size the dam break's particle radius is scaled so that the scene
+// holds about that many particles; the solver then takes warm-up steps and
+// timed steps of a fixed dt (CFL-safe for the dam break's impact speed).
+// The last lines are machine-readable: one `pbf-bench:` line per size.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "console.hpp"
+#include "pbf/scene.hpp"
+#include "pbf/simulation.hpp"
+#include "pbf/threading.hpp"
+
+namespace pbf::cli {
+namespace {
+
+struct BenchArguments {
+    std::string scene;
+    std::vector<std::size_t> sizes{16000, 128000, 512000};
+    int steps = 20;
+    int warmup = 5;
+    int iterations = 4;
+    int threads = 0;
+};
+
+struct BenchResult {
+    std::size_t particles = 0;
+    StageTimes perStep;
+    double stepMs = 0.0;
+    double bytesPerParticle = 0.0;
+    double neighborsPerParticle = 0.0;
+};
+
+BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArguments& args) {
+    Scene scene = base;
+    const double baseCount = double(countParticles(base));
+    scene.simulation.particleRadius =
+        static_cast<float>(base.simulation.particleRadius * std::cbrt(baseCount / double(target)));
+    scene.simulation.solver.iterations = args.iterations;
+    if (const std::string problem = validate(scene.simulation); !problem.empty())
+        throw SceneError(fmt::format("size {}: {}", target, problem));
+    if (const std::size_t available = availableMemoryBytes(); available > 0) checkMemory(scene, available);
+
+    Simulation simulation(scene);
+    ParticleStore& particles = simulation.particles();
+    Solver& solver = simulation.solver();
+    // Fixed substep: CFL 0.4 at the dam break's front speed 2 sqrt(g H).
+    const float height = scene.fluidBlocks.front().box.extent().y;
+    const float frontSpeed = 2.0f * std::sqrt(9.81f * height);
+    const float dt = std::min(scene.simulation.solver.maxTimeStep,
+                              0.4f * scene.simulation.particleSpacing() / frontSpeed);
+    for (int s = 0; s < args.warmup; ++s) solver.step(particles, dt);
+
+    BenchResult result;
+    result.particles = particles.size();
+    for (int s = 0; s < args.steps; ++s) {
+        solver.step(particles, dt);
+        const StageTimes& t = solver.lastStageTimes();
+        result.perStep.predict += t.predict / args.steps;
+        result.perStep.neighborSearch += t.neighborSearch / args.steps;
+        result.perStep.solve += t.solve / args.steps;
+        result.perStep.postProcess += t.postProcess / args.steps;
+        result.perStep.total += t.total / args.steps;
+    }
+    result.stepMs = result.perStep.total;
+    const std::size_t stateBytes = particles.size() * (sizeof(float) * 11 + sizeof(std::uint32_t));
+    result.bytesPerParticle = double(stateBytes + solver.memoryBytes()) / double(particles.size());
+    result.neighborsPerParticle =
+        double(solver.neighborSearch().totalNeighborCount()) / double(particles.size());
+    return result;
+}
+
+std::vector<std::size_t> parseSizes(const std::string& text) {
+    std::vector<std::size_t> sizes;
+    std::stringstream parts(text);
+    std::string part;
+    while (std::getline(parts, part, ',')) {
+        double value = 0.0;
+        char suffix = 0;
+        std::istringstream in(part);
+        in >> value >> suffix;
+        if (suffix == 'k' || suffix == 'K') value *= 1e3;
+        if (suffix == 'm' || suffix == 'M') value *= 1e6;
+        if (!(value >= 100 && value <= 1e9)) throw CLI::ValidationError("--sizes", "sizes must be in [100, 1e9]: " + part);
+        sizes.push_back(static_cast<std::size_t>(value));
+    }
+    return sizes;
+}
+
+int runBench(const BenchArguments& args) {
+    if (args.threads > 0) setThreadCount(args.threads);
+    const Scene base = loadScene(args.scene);
+    fmt::print("pbf bench: scene {}, {} iterations, {} timed steps after {} warm-up, {} threads\n",
+               args.scene, args.iterations, args.steps, args.warmup, threadCount());
+    fmt::print("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>14} {:>8} {:>8}\n", "particles", "step_ms",
+               "predict", "neighbors", "solve", "post", "particle-st/s", "nbrs", "B/part");
+    std::vector<std::string> machineLines;
+    for (const std::size_t size : args.sizes) {
+        const BenchResult r = benchOneSize(base, size, args);
+        const double rate = double(r.particles) / (r.stepMs * 1e-3);
+        fmt::print("{:>10} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>14.3e} {:>8.1f} {:>8.0f}\n",
+                   r.particles, r.stepMs, r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
+                   r.perStep.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
+        machineLines.push_back(fmt::format(
+            "pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
+            "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} solve_ms={:.3f} post_ms={:.3f} "
+            "bytes_per_particle={:.0f}",
+            r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate, r.perStep.predict,
+            r.perStep.neighborSearch, r.perStep.solve, r.perStep.postProcess, r.bytesPerParticle));
+    }
+    for (const std::string& line : machineLines) fmt::print("{}\n", line);
+    return 0;
+}
+
+}  // namespace
+
+std::function<int()> addBenchCommand(CLI::App& app) {
+    auto args = std::make_shared<BenchArguments>();
+    auto sizes = std::make_shared<std::string>("16k,128k,512k");
+    args->scene = defaultScenePath("dam_break.json");
+    CLI::App* bench = app.add_subcommand("bench", "Measure solver throughput (particle-steps per second) on the dam break");
+    bench->add_option("--scene", args->scene, "Scene to scale (default: scenes/dam_break.json)");
+    bench->add_option("--sizes", *sizes, "Comma-separated particle counts, k/M suffixes allowed")
+        ->capture_default_str();
+    bench->add_option("--steps", args->steps, "Timed steps per size")->check(CLI::Range(1, 100000))->capture_default_str();
+    bench->add_option("--warmup", args->warmup, "Untimed steps first")->check(CLI::Range(0, 100000))->capture_default_str();
+    bench->add_option("-i,--iterations", args->iterations, "Density iterations per step")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+    return [args, sizes] {
+        args->sizes = parseSizes(*sizes);
+        return runBench(*args);
+    };
+}
+
+}  // namespace pbf::cli

@@ -1,0 +1,15 @@
+// Subcommands of the `pbf` program. Each registers its options on the CLI11
+// app and returns the exit code from its run function.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace pbf::cli {
+
+// Registers the subcommand and returns the function that runs it after parsing.
+std::function<int()> addRunCommand(CLI::App& app);
+std::function<int()> addBenchCommand(CLI::App& app);
+
+}  // namespace pbf::cli

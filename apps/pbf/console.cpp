@@ -1,0 +1,59 @@
+#include "console.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace pbf::cli {
+
+ProgressBar::ProgressBar(std::string label, int total, bool enabled)
+    : label_(std::move(label)), total_(total), enabled_(enabled), terminal_(::isatty(STDERR_FILENO) != 0) {}
+
+void ProgressBar::update(int done, const std::string& detail) {
+    if (!enabled_ || total_ <= 0) return;
+    const double fraction = double(done) / total_;
+    if (terminal_) {
+        constexpr int kWidth = 30;
+        const int filled = static_cast<int>(fraction * kWidth);
+        fmt::print(stderr, "\r{} [{}{}] {:3.0f}% {}/{} {}\x1b[K", label_, std::string(filled, '#'),
+                   std::string(kWidth - filled, '.'), 100.0 * fraction, done, total_, detail);
+        std::fflush(stderr);
+        return;
+    }
+    const int decile = static_cast<int>(fraction * 10.0);
+    if (decile == lastDecile_) return;
+    lastDecile_ = decile;
+    fmt::print(stderr, "{} {:3.0f}% {}/{} {}\n", label_, 100.0 * fraction, done, total_, detail);
+}
+
+void ProgressBar::finish() {
+    if (enabled_ && terminal_) fmt::print(stderr, "\n");
+}
+
+void printError(const std::string& message) { fmt::print(stderr, "pbf: error: {}\n", message); }
+
+std::size_t availableMemoryBytes() {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string line;
+    while (std::getline(meminfo, line)) {
+        std::istringstream words(line);
+        std::string key;
+        std::size_t kib = 0;
+        if (words >> key >> kib && key == "MemAvailable:") return kib * 1024;
+    }
+    const long pages = ::sysconf(_SC_AVPHYS_PAGES);
+    const long pageSize = ::sysconf(_SC_PAGESIZE);
+    return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
+}
+
+std::string defaultScenePath(const std::string& fileName) {
+    const std::filesystem::path local = std::filesystem::path("scenes") / fileName;
+    if (std::filesystem::exists(local)) return local.string();
+    return (std::filesystem::path(PBF_SCENES_DIR) / fileName).string();
+}
+
+}  // namespace pbf::cli

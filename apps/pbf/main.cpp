@@ -1,0 +1,29 @@
+// `pbf`: the command-line program. Subcommands live in *_command.cpp.
+#include <CLI/CLI.hpp>
+
+#include <exception>
+
+#include "commands.hpp"
+#include "console.hpp"
+#include "pbf/version.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"pbf: Position Based Fluids water simulator (Macklin & Mueller 2013)", "pbf"};
+    app.set_version_flag("--version", std::string("pbf ") + pbf::kVersion);
+    app.require_subcommand(1);
+    const auto run = pbf::cli::addRunCommand(app);
+    const auto bench = pbf::cli::addBenchCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        if (app.got_subcommand("run")) return run();
+        if (app.got_subcommand("bench")) return bench();
+    } catch (const std::exception& e) {
+        pbf::cli::printError(e.what());
+        return 1;
+    }
+    return 2;
+}

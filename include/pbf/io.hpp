@@ -1,0 +1,45 @@
+// Files pbf writes and reads.
+//
+// Every file is written whole: to a temporary file beside the target, then
+// renamed over it, so a killed run never leaves a half-written frame.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pbf/particles.hpp"
+
+namespace pbf {
+
+class IoError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Writes `path` atomically: `write` fills a stream on a temporary file that
+// is flushed, synced and renamed over `path`. Throws IoError naming the path.
+void writeFileAtomically(const std::filesystem::path& path,
+                         const std::function<void(std::ostream&)>& write);
+
+// One particle frame as read back from a file.
+struct ParticleFrame {
+    std::vector<Vec3> position;
+    std::vector<Vec3> velocity;
+    std::vector<float> density;
+    std::vector<std::uint32_t> id;
+};
+
+// Binary little-endian PLY, one vertex per particle with the properties
+// x y z vx vy vz density (float) and id (uint), in id order. Blender,
+// Houdini, MeshLab and ParaView open it.
+void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& particles);
+// Reads a file written by writeParticlesPly (or any binary little-endian
+// PLY with float x, y, z; other properties optional). Throws IoError.
+ParticleFrame readParticlesPly(const std::filesystem::path& path);
+
+}  // namespace pbf

@@ -1,0 +1,79 @@
+// Neighbour search on a sorted uniform grid (cell size = kernel radius h).
+//
+// Each step: `sortByCell` computes every particle's cell and a stable
+// counting sort by cell index, giving the permutation that the caller applies
+// with ParticleStore::reorder. After the reorder the particles of cell c are
+// the contiguous range [cellStart(c), cellStart(c + 1)), and
+// `buildNeighborLists` collects, for every particle, the indices of all
+// others closer than h into a compact CSR list that all solver iterations
+// reuse. Cells along x are adjacent in memory, so the 27-cell stencil is
+// read as 9 contiguous ranges.
+//
+// Positions outside the grid are clamped to its border cells. Clamping is
+// monotone and never moves two points further apart in cell coordinates, so
+// two particles closer than h always land in the same or adjacent cells and
+// the search stays exact for them too.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "pbf/particles.hpp"
+#include "pbf/vec3.hpp"
+
+namespace pbf {
+
+// Largest grid pbf builds (cells of edge h over the domain): 2^26 cells,
+// about 0.5 GiB of cell tables. Scenes beyond it are refused when loaded.
+inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
+
+class NeighborSearch {
+public:
+    // Grid over `domain` with cells of edge `radius`. Throws
+    // std::invalid_argument if the grid would need more than `maxCells` cells.
+    NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells = kMaxGridCells);
+
+    float radius() const { return radius_; }
+    std::size_t cellCount() const { return cellCount_; }
+    std::uint32_t cellIndexOf(const Vec3& p) const;
+
+    // Stable counting sort of the particles by the cell of `positions`.
+    // Writes perm (new index -> old index); sizes its buffers to the particle
+    // count (no allocation once the count stops growing).
+    void sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm);
+
+    // Builds neighbour lists from positions already ordered by sortByCell.
+    void buildNeighborLists(const Float3Array& positions);
+
+    std::span<const std::uint32_t> neighbors(std::size_t i) const {
+        return {indices_.data() + offsets_[i], indices_.data() + offsets_[i + 1]};
+    }
+    std::size_t totalNeighborCount() const { return offsets_.empty() ? 0 : offsets_.back(); }
+    // Bytes held by the grid and neighbour lists (for the benchmark's report).
+    std::size_t memoryBytes() const;
+
+private:
+    // Cell range [first, last) of the 9 x-rows of the 27-cell stencil around `cell`.
+    template <class Visit>
+    void forEachStencilRange(std::uint32_t cx, std::uint32_t cy, std::uint32_t cz,
+                             Visit&& visit) const;
+    std::uint32_t cellCoord(float value, float origin, std::uint32_t count) const;
+
+    Aabb domain_;
+    float radius_;
+    float inverseCell_;
+    std::uint32_t nx_, ny_, nz_;
+    std::size_t cellCount_;
+
+    std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
+    std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
+    std::vector<std::uint32_t> cellCursor_;      // counting-sort scratch
+    std::vector<std::uint32_t> sortedCell_;      // cell of each particle, sorted order
+    std::vector<std::uint32_t> counts_;          // neighbours per particle
+    std::vector<std::size_t> offsets_;           // CSR offsets, size n + 1
+    std::vector<std::uint32_t> indices_;         // CSR neighbour indices
+};
+
+}  // namespace pbf

@@ -1,0 +1,76 @@
+// Simulation parameters: plain structs with documented defaults and ranges.
+//
+// Everything is in SI units (metres, seconds, kilograms). The paper's
+// dimensionless constants (s_corr k, n, dq; the relaxation epsilon; XSPH c)
+// are kept dimensionless here and converted to SI inside the solver by the
+// rest-lattice scales of the constraint (see SolverConstants): copying the
+// paper's numbers verbatim into SI formulas is the "units trap" of
+// docs/scenes.md.
+#pragma once
+
+#include <string>
+
+#include "pbf/vec3.hpp"
+
+namespace pbf {
+
+struct FluidParams {
+    float restDensity = 1000.0f;  // rho0, kg/m^3, (0, 1e5]
+    // XSPH viscosity c (Schechter & Bridson 2012, paper eq. 17), dimensionless
+    // because the sum is weighted by particle volume: [0, 1].
+    float viscosity = 0.01f;
+    // Vorticity confinement epsilon (paper eq. 16, Fedkiw et al. 2001),
+    // dimensionless: acceleration = epsilon * h * |omega| * (N x omega). [0, 10].
+    float vorticity = 0.0f;
+};
+
+struct ArtificialPressureParams {
+    // s_corr = -k (W(r) / W(dq h))^n, in units of the constraint's lambda
+    // scale (paper eq. 13-14: k = 0.1, n = 4, dq = 0.1 .. 0.3 h).
+    float k = 0.1f;     // [0, 1]
+    int n = 4;          // [1, 8]
+    float dq = 0.2f;    // fraction of h, (0, 1)
+};
+
+enum class TimeStepMode { Adaptive, Fixed };
+
+struct SolverParams {
+    int iterations = 4;  // Jacobi density iterations per substep, [1, 100]
+    // Constraint-force-mixing epsilon of paper eq. 11, relative to the rest
+    // lattice's sum |grad C|^2 (so the value means the same at any resolution).
+    float relaxation = 0.01f;  // [1e-6, 10]
+    ArtificialPressureParams artificialPressure;
+    // Kernel support h in units of the particle radius (h = 4 r: ~33 neighbours).
+    float kernelRadiusFactor = 4.0f;  // [3, 6]
+
+    TimeStepMode timeStepMode = TimeStepMode::Adaptive;
+    // Adaptive mode: substep dt = cfl * particle spacing / max speed, within
+    // [frame / maxSubsteps, maxTimeStep].
+    float cfl = 0.4f;              // (0, 1]
+    float maxTimeStep = 1.0f / 120.0f;  // seconds, (0, 1]
+    int maxSubsteps = 200;         // per frame, [1, 10000]
+    // Fixed mode: exactly this many substeps per frame.
+    int fixedSubsteps = 2;         // [1, 10000]
+
+    // Domain-wall response: normal velocity is reflected with `restitution`,
+    // tangential velocity is scaled by (1 - friction) on contact.
+    float restitution = 0.0f;  // [0, 1]
+    float friction = 0.0f;     // [0, 1]
+};
+
+struct SimulationParams {
+    Aabb domain{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};  // metres; particles never leave it
+    Vec3 gravity{0.0f, -9.81f, 0.0f};                      // m/s^2
+    float particleRadius = 0.01f;  // metres; spacing of the initial lattice is 2 r
+    FluidParams fluid;
+    SolverParams solver;
+
+    float particleSpacing() const { return 2.0f * particleRadius; }
+    float kernelRadius() const { return solver.kernelRadiusFactor * particleRadius; }
+};
+
+// Returns an empty string when valid, else "field: problem" for the first
+// invalid field (field names as in scene files, e.g. "solver.iterations").
+std::string validate(const SimulationParams& params);
+
+}  // namespace pbf

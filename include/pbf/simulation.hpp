@@ -1,0 +1,56 @@
+// Drives the solver frame by frame: chooses substeps (CFL-limited or fixed),
+// keeps simulated time, and reports per-frame statistics.
+#pragma once
+
+#include <cstddef>
+
+#include "pbf/particles.hpp"
+#include "pbf/scene.hpp"
+#include "pbf/solver.hpp"
+#include "pbf/statistics.hpp"
+
+namespace pbf {
+
+struct FrameReport {
+    int frame = 0;        // frames completed
+    double time = 0.0;    // simulated seconds
+    int substeps = 0;     // solver steps taken in this frame
+    int iterations = 0;   // density iterations per substep
+    double stepMs = 0.0;  // average wall-clock ms per substep in this frame
+    StageTimes stageMs;   // summed over the frame's substeps
+    StateStatistics state;
+};
+
+class Simulation {
+public:
+    explicit Simulation(const Scene& scene);
+
+    const Scene& scene() const { return scene_; }
+    const ParticleStore& particles() const { return particles_; }
+    ParticleStore& particles() { return particles_; }
+    Solver& solver() { return solver_; }
+    const Solver& solver() const { return solver_; }
+    int frame() const { return frame_; }
+    double time() const { return time_; }
+    double frameDuration() const { return 1.0 / scene_.output.fps; }
+
+    // Simulates one output frame (1 / fps seconds) and reports on it.
+    FrameReport advanceFrame();
+    // Statistics of the current state (frame 0 before any step).
+    FrameReport report() const;
+
+    // The substep the adaptive mode takes now, given `remaining` seconds of
+    // the frame: min(max_time_step, cfl * spacing / speed), where speed is the
+    // largest particle speed plus what gravity adds in one step, then evened
+    // out so that the frame ends on a whole number of equal substeps.
+    double adaptiveSubstep(double remaining) const;
+
+private:
+    Scene scene_;
+    ParticleStore particles_;
+    Solver solver_;
+    int frame_ = 0;
+    double time_ = 0.0;
+};
+
+}  // namespace pbf

@@ -1,0 +1,91 @@
+// The Position Based Fluids solver (Macklin & Mueller 2013, Algorithm 1).
+//
+// One call of Solver::step advances the particles by dt:
+//   predict        v += dt g;  x* = x + dt v                  (Alg. 1, l. 1-4)
+//   neighbours     sort by grid cell, reorder, neighbour lists (l. 5-7)
+//   iterations     rho_i, lambda_i; dp_i with s_corr; x* += dp; box projection (l. 8-19)
+//   velocity       v = (x* - x) / dt                           (l. 21)
+//   post-process   vorticity confinement, XSPH viscosity       (l. 22)
+//   wall response  restitution and friction on the domain walls
+//   commit         x = x*                                      (l. 23)
+// Every stage is a function over particle ranges in solver_stages.hpp.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "pbf/kernels.hpp"
+#include "pbf/neighbor_search.hpp"
+#include "pbf/params.hpp"
+#include "pbf/particles.hpp"
+
+namespace pbf {
+
+// SI constants derived once from SimulationParams.
+struct SolverConstants {
+    float h = 0.0f;              // kernel radius, m
+    float particleMass = 0.0f;   // kg, so that a full rest lattice has density rho0
+    float restDensity = 0.0f;    // kg/m^3
+    float inverseRestDensity = 0.0f;
+    Poly6Kernel poly6;
+    SpikyKernel spiky;
+    // sum_k |grad_k C_i|^2 of an interior particle of the rest lattice, 1/m^2.
+    // It converts the dimensionless relaxation and s_corr k to SI (units trap).
+    float restGradientSum = 0.0f;
+    float relaxationEpsilon = 0.0f;  // relaxation * restGradientSum
+    // s_corr(r) = scorrScale * (W(r) / W(dq h))^n, scorrScale = -k / restGradientSum.
+    float scorrScale = 0.0f;
+    float scorrInverseWdq = 0.0f;    // 1 / W(dq h)
+    int scorrExponent = 4;
+    Aabb collisionBox;               // domain shrunk by the particle radius
+
+    static SolverConstants from(const SimulationParams& params);
+};
+
+// Wall-clock milliseconds spent per stage in the last step.
+struct StageTimes {
+    double predict = 0.0;
+    double neighborSearch = 0.0;  // sort, reorder, neighbour lists
+    double solve = 0.0;           // all density iterations
+    double postProcess = 0.0;     // velocity update, vorticity, XSPH, wall response
+    double total = 0.0;
+};
+
+class Solver {
+public:
+    explicit Solver(const SimulationParams& params);
+
+    const SimulationParams& params() const { return params_; }
+    const SolverConstants& constants() const { return constants_; }
+    // Changes parameters that need no re-allocation (iterations, viscosity, ...).
+    // Domain, radius and kernel factor must stay the same.
+    void setParams(const SimulationParams& params);
+
+    // Advances the particles by dt seconds.
+    void step(ParticleStore& particles, float dt);
+
+    const StageTimes& lastStageTimes() const { return times_; }
+    const NeighborSearch& neighborSearch() const { return search_; }
+    // Solver-owned memory in bytes (scratch arrays, grid, neighbour lists).
+    std::size_t memoryBytes() const;
+
+private:
+    void ensureCapacity(std::size_t n);
+
+    SimulationParams params_;
+    SolverConstants constants_;
+    NeighborSearch search_;
+    StageTimes times_;
+
+    // Scratch owned by the solver: sized once per particle count, reused every step.
+    std::vector<std::uint32_t> perm_;
+    std::vector<float> lambda_;
+    Float3Array delta_;      // position corrections; later velocity increments
+    Float3Array vorticity_;  // omega_i
+};
+
+// Largest particle speed (m/s).
+float maxSpeed(const ParticleStore& particles);
+
+}  // namespace pbf

@@ -1,0 +1,128 @@
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "pbf/io.hpp"
+
+namespace pbf {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "binary PLY output assumes a little-endian host");
+
+struct Record {  // one vertex as laid out in the file (32 bytes, no padding)
+    float x, y, z, vx, vy, vz, density;
+    std::uint32_t id;
+};
+static_assert(sizeof(Record) == 32);
+
+[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
+    throw IoError(path.string() + ": " + message);
+}
+
+}  // namespace
+
+void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p) {
+    const std::vector<std::uint32_t> order = p.orderById();
+    writeFileAtomically(path, [&](std::ostream& out) {
+        out << "ply\nformat binary_little_endian 1.0\ncomment written by pbf\n"
+            << "element vertex " << p.size() << "\n"
+            << "property float x\nproperty float y\nproperty float z\n"
+            << "property float vx\nproperty float vy\nproperty float vz\n"
+            << "property float density\nproperty uint id\nend_header\n";
+        std::vector<Record> buffer;
+        buffer.reserve(std::min<std::size_t>(order.size(), 65536));
+        for (std::size_t k = 0; k < order.size(); ++k) {
+            const std::uint32_t i = order[k];
+            buffer.push_back({p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i],
+                              p.velocity.y[i], p.velocity.z[i], p.density[i], p.id[i]});
+            if (buffer.size() == buffer.capacity() || k + 1 == order.size()) {
+                out.write(reinterpret_cast<const char*>(buffer.data()),
+                          static_cast<std::streamsize>(buffer.size() * sizeof(Record)));
+                buffer.clear();
+            }
+        }
+    });
+}
+
+ParticleFrame readParticlesPly(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path, "cannot open PLY file");
+    std::string line;
+    if (!std::getline(in, line) || line != "ply") fail(path, "not a PLY file (no 'ply' magic)");
+
+    struct Property {
+        std::string name;
+        std::size_t size;
+        bool isFloat;
+    };
+    std::vector<Property> properties;
+    std::size_t count = 0;
+    bool inVertex = false, sawFormat = false;
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        std::string word;
+        words >> word;
+        if (word == "end_header") break;
+        if (word == "format") {
+            std::string format;
+            words >> format;
+            if (format != "binary_little_endian") fail(path, "only binary_little_endian PLY is supported");
+            sawFormat = true;
+        } else if (word == "element") {
+            std::string name;
+            words >> name;
+            inVertex = name == "vertex";
+            if (inVertex && !(words >> count)) fail(path, "bad vertex count");
+            if (!inVertex) fail(path, "unsupported element '" + name + "' (only vertex)");
+        } else if (word == "property" && inVertex) {
+            std::string type, name;
+            words >> type >> name;
+            if (type == "float" || type == "float32") properties.push_back({name, 4, true});
+            else if (type == "uint" || type == "uint32" || type == "int" || type == "int32")
+                properties.push_back({name, 4, false});
+            else fail(path, "unsupported property type '" + type + "'");
+        }
+    }
+    if (!in || !sawFormat) fail(path, "truncated or malformed PLY header");
+    const std::size_t stride = properties.size() * 4;
+    // Refuse counts the file cannot hold before allocating for them.
+    const auto headerEnd = in.tellg();
+    in.seekg(0, std::ios::end);
+    const auto bytes = static_cast<std::size_t>(in.tellg() - headerEnd);
+    in.seekg(headerEnd);
+    if (stride == 0 || count > bytes / stride) fail(path, "file is shorter than its vertex count says");
+
+    auto column = [&](const char* name) -> int {
+        for (std::size_t k = 0; k < properties.size(); ++k)
+            if (properties[k].name == name) return static_cast<int>(k);
+        return -1;
+    };
+    const int ix = column("x"), iy = column("y"), iz = column("z");
+    if (ix < 0 || iy < 0 || iz < 0) fail(path, "vertex element lacks x, y, z");
+    const int ivx = column("vx"), ivy = column("vy"), ivz = column("vz"), idens = column("density"),
+              iid = column("id");
+
+    ParticleFrame frame;
+    frame.position.resize(count);
+    if (ivx >= 0 && ivy >= 0 && ivz >= 0) frame.velocity.resize(count);
+    if (idens >= 0) frame.density.resize(count);
+    if (iid >= 0) frame.id.resize(count);
+    std::vector<char> row(stride);
+    auto floatAt = [&](int k) {
+        float v;
+        std::memcpy(&v, row.data() + 4 * k, 4);
+        return v;
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!in.read(row.data(), static_cast<std::streamsize>(stride))) fail(path, "truncated vertex data");
+        frame.position[i] = {floatAt(ix), floatAt(iy), floatAt(iz)};
+        if (!frame.velocity.empty()) frame.velocity[i] = {floatAt(ivx), floatAt(ivy), floatAt(ivz)};
+        if (!frame.density.empty()) frame.density[i] = floatAt(idens);
+        if (!frame.id.empty()) std::memcpy(&frame.id[i], row.data() + 4 * iid, 4);
+    }
+    return frame;
+}
+
+}  // namespace pbf

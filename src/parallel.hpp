@@ -1,0 +1,42 @@
+// Deterministic parallel loops over particle index ranges (private header).
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "pbf/threading.hpp"
+
+namespace pbf::detail {
+
+// Particles per work item: large enough to amortise scheduling, small enough
+// to balance two threads on a few thousand particles.
+inline constexpr std::size_t kBlockSize = 1024;
+
+// Calls fn(begin, end) over [0, n) in blocks, in parallel. Each index is
+// visited exactly once; fn must write only the entries of its own range.
+template <class Fn>
+void parallelFor(std::size_t n, Fn&& fn) {
+    const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + kBlockSize - 1) / kBlockSize);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threadCount()) if (blocks > 1)
+    for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+        const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
+        fn(begin, std::min(n, begin + kBlockSize));
+    }
+}
+
+// Sums blockValue(begin, end) over fixed blocks and adds the partial sums in
+// block order, so the result does not depend on the thread count.
+template <class T, class Fn>
+T parallelSum(std::size_t n, Fn&& blockValue) {
+    const std::size_t blocks = (n + kBlockSize - 1) / kBlockSize;
+    std::vector<T> partial(blocks, T{});
+    parallelFor(n, [&](std::size_t begin, std::size_t end) {
+        partial[begin / kBlockSize] = blockValue(begin, end);
+    });
+    T total{};
+    for (const T& p : partial) total += p;
+    return total;
+}
+
+}  // namespace pbf::detail

@@ -1,0 +1,260 @@
+#include "pbf/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "json_reader.hpp"
+
+namespace pbf {
+namespace {
+
+using nlohmann::json;
+using detail::JsonReader;
+
+// Particles along one axis of a block: lattice cells of edge `spacing` that fit.
+// Capped so that absurd sizes stay representable and are refused later.
+long long latticeCount(float extent, float spacing) {
+    return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
+}
+
+void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
+    json* node = &document;
+    std::stringstream parts(o.path);
+    std::string part;
+    std::string walked;
+    while (std::getline(parts, part, '.')) {
+        walked += (walked.empty() ? "" : ".") + part;
+        if (part.empty()) throw SceneError(file + ": --set " + o.path + ": empty field name");
+        if (node->is_array()) {
+            std::size_t index = 0;
+            try {
+                index = std::stoul(part);
+            } catch (const std::exception&) {
+                throw SceneError(file + ": --set " + o.path + ": " + walked + " is an array; expected an index");
+            }
+            if (index >= node->size())
+                throw SceneError(file + ": --set " + o.path + ": index " + part + " out of range");
+            node = &(*node)[index];
+        } else {
+            if (node->is_null()) *node = json::object();
+            if (!node->is_object())
+                throw SceneError(file + ": --set " + o.path + ": " + walked + " is not an object");
+            node = &(*node)[part];
+        }
+    }
+    json value = json::parse(o.value, nullptr, /*allow_exceptions=*/false);
+    *node = value.is_discarded() ? json(o.value) : std::move(value);
+}
+
+Aabb readBox(JsonReader& r) {
+    const Aabb box{r.requiredVec3("min"), r.requiredVec3("max")};
+    const Vec3 e = box.extent();
+    if (!(e.x > 0 && e.y > 0 && e.z > 0)) r.fail("max", "must be greater than min on every axis");
+    return box;
+}
+
+SolverParams readSolver(JsonReader r) {
+    SolverParams s;
+    s.iterations = r.integer("iterations", s.iterations);
+    s.relaxation = r.number("relaxation", s.relaxation);
+    s.kernelRadiusFactor = r.number("kernel_radius_factor", s.kernelRadiusFactor);
+    {
+        JsonReader a = r.object("artificial_pressure");
+        s.artificialPressure.k = a.number("k", s.artificialPressure.k);
+        s.artificialPressure.n = a.integer("n", s.artificialPressure.n);
+        s.artificialPressure.dq = a.number("dq", s.artificialPressure.dq);
+        a.finish();
+    }
+    const std::string mode = r.string("time_step", "adaptive");
+    if (mode == "adaptive") {
+        s.timeStepMode = TimeStepMode::Adaptive;
+    } else if (mode == "fixed") {
+        s.timeStepMode = TimeStepMode::Fixed;
+    } else {
+        r.fail("time_step", "expected \"adaptive\" or \"fixed\", got \"" + mode + "\"");
+    }
+    s.cfl = r.number("cfl", s.cfl);
+    s.maxTimeStep = r.number("max_time_step", s.maxTimeStep);
+    s.maxSubsteps = r.integer("max_substeps", s.maxSubsteps);
+    s.fixedSubsteps = r.integer("substeps", s.fixedSubsteps);
+    s.restitution = r.number("restitution", s.restitution);
+    s.friction = r.number("friction", s.friction);
+    r.finish();
+    return s;
+}
+
+bool overlaps(const Aabb& a, const Aabb& b) {
+    return a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y &&
+           a.min.z < b.max.z && b.min.z < a.max.z;
+}
+
+void readFluidBlocks(JsonReader& root, Scene& scene) {
+    const json& blocks = root.array("fluid_blocks");
+    if (blocks.empty()) root.fail("fluid_blocks", "at least one fluid block is required");
+    const SimulationParams& sim = scene.simulation;
+    const float spacing = sim.particleSpacing();
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        JsonReader r(blocks[i], "fluid_blocks[" + std::to_string(i) + "]", scene.source);
+        FluidBlock block{readBox(r), r.vec3("velocity", {})};
+        r.finish();
+        const Aabb& d = sim.domain;
+        if (!d.contains(block.box.min) || !d.contains(block.box.max))
+            r.fail("min", "the block must lie inside the domain");
+        const Vec3 e = block.box.extent();
+        if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
+            latticeCount(e.z, spacing) < 1)
+            r.fail("max", "the block is empty: every side must be at least one particle spacing (2 r = " +
+                              std::to_string(spacing) + " m) long");
+        for (std::size_t k = 0; k < scene.fluidBlocks.size(); ++k)
+            if (overlaps(block.box, scene.fluidBlocks[k].box))
+                r.fail("min", "overlaps fluid_blocks[" + std::to_string(k) + "]");
+        scene.fluidBlocks.push_back(block);
+    }
+}
+
+std::string defaultName(const std::string& source) {
+    const std::string stem = std::filesystem::path(source).stem().string();
+    return stem.empty() ? "scene" : stem;
+}
+
+}  // namespace
+
+SceneOverride parseOverride(std::string_view assignment) {
+    const std::size_t eq = assignment.find('=');
+    if (eq == std::string_view::npos || eq == 0)
+        throw SceneError("--set " + std::string(assignment) + ": expected FIELD=VALUE, e.g. solver.iterations=8");
+    return {std::string(assignment.substr(0, eq)), std::string(assignment.substr(eq + 1))};
+}
+
+Scene parseScene(std::string_view jsonText, const std::string& sourceName,
+                 const std::vector<SceneOverride>& overrides) {
+    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    if (document.is_discarded()) {
+        // Parse again with exceptions for the position of the error.
+        try {
+            document = json::parse(jsonText, nullptr, true, true);
+        } catch (const json::parse_error& e) {
+            throw SceneError(sourceName + ": not valid JSON: " + e.what());
+        }
+    }
+    for (const SceneOverride& o : overrides) applyOverride(document, o, sourceName);
+
+    Scene scene;
+    scene.source = sourceName;
+    JsonReader root(document, "", scene.source);
+    scene.name = root.string("name", defaultName(sourceName));
+    if (scene.name.empty() || scene.name.find('/') != std::string::npos)
+        root.fail("name", "must be a non-empty name without '/'");
+
+    SimulationParams& sim = scene.simulation;
+    {
+        JsonReader domain = root.object("domain");
+        if (!root.has("domain")) root.fail("domain", "missing (required): {\"min\": [...], \"max\": [...]}");
+        sim.domain = readBox(domain);
+        domain.finish();
+    }
+    sim.gravity = root.vec3("gravity", sim.gravity);
+    if (!root.has("particle_radius")) root.fail("particle_radius", "missing (required), metres");
+    sim.particleRadius = root.number("particle_radius", sim.particleRadius);
+    {
+        JsonReader f = root.object("fluid");
+        sim.fluid.restDensity = f.number("rest_density", sim.fluid.restDensity);
+        sim.fluid.viscosity = f.number("viscosity", sim.fluid.viscosity);
+        sim.fluid.vorticity = f.number("vorticity", sim.fluid.vorticity);
+        f.finish();
+    }
+    sim.solver = readSolver(root.object("solver"));
+    if (const std::string problem = validate(sim); !problem.empty())
+        throw SceneError(sourceName + ": " + problem);
+
+    {
+        JsonReader o = root.object("output");
+        OutputParams& out = scene.output;
+        out.fps = o.number("fps", out.fps);
+        if (!(out.fps > 0.0f && out.fps <= 10000.0f)) o.fail("fps", "must be in (0, 10000]");
+        out.frames = o.integer("frames", out.frames);
+        if (out.frames < 1 || out.frames > 1000000) o.fail("frames", "must be in [1, 1000000]");
+        out.directory = o.string("directory", "out/" + scene.name);
+        if (out.directory.empty()) o.fail("directory", "must not be empty");
+        out.writeParticles = o.boolean("particles", out.writeParticles);
+        o.finish();
+    }
+    readFluidBlocks(root, scene);
+    root.finish();
+    return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw SceneError(name + ": cannot open scene file (" +
+                         (std::filesystem::exists(file, ec) ? "not a regular file" : "no such file") + ")");
+    // Scenes are small; anything over 64 MiB is not a scene.
+    if (std::filesystem::file_size(file, ec) > (std::uintmax_t{64} << 20))
+        throw SceneError(name + ": scene file larger than 64 MiB");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw SceneError(name + ": cannot read scene file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str(), name, overrides);
+}
+
+std::size_t countParticles(const Scene& scene) {
+    const float spacing = scene.simulation.particleSpacing();
+    double total = 0.0;
+    for (const FluidBlock& b : scene.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
+                 double(latticeCount(e.z, spacing));
+    }
+    if (total > 4e9) throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(total) +
+                                      " particles exceed the 32-bit particle index");
+    return static_cast<std::size_t>(total);
+}
+
+ParticleStore createParticles(const Scene& scene) {
+    const SimulationParams& sim = scene.simulation;
+    const float r = sim.particleRadius;
+    const float spacing = sim.particleSpacing();
+    ParticleStore store;
+    store.reserve(countParticles(scene));
+    for (const FluidBlock& b : scene.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
+                        nz = latticeCount(e.z, spacing);
+        for (long long k = 0; k < nz; ++k)
+            for (long long j = 0; j < ny; ++j)
+                for (long long i = 0; i < nx; ++i) {
+                    const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
+                                                    r + float(k) * spacing};
+                    store.add(x, b.velocity, sim.fluid.restDensity);
+                }
+    }
+    return store;
+}
+
+std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
+    // Particle store (9 floats of state, density, id, reorder scratch) plus
+    // solver scratch (lambda, delta, vorticity, grid keys, CSR offsets) plus
+    // the neighbour list: ~(4/3) pi (h / 2r)^3 neighbours, 4 bytes each, with
+    // the list's 25 % growth headroom.
+    const double ratio = params.solver.kernelRadiusFactor / 2.0;
+    const double neighbors = 4.0 / 3.0 * 3.14159265358979 * ratio * ratio * ratio;
+    return static_cast<std::size_t>(4 * 13 + 4 * 8 + 8 + neighbors * 4 * 1.25 + 0.5);
+}
+
+void checkMemory(const Scene& scene, std::size_t availableBytes) {
+    const double needed = double(countParticles(scene)) * double(estimatedBytesPerParticle(scene.simulation));
+    if (needed > double(availableBytes))
+        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(countParticles(scene)) +
+                         " particles need about " + std::to_string(static_cast<long long>(needed / (1 << 20))) +
+                         " MiB, more than the " + std::to_string(availableBytes >> 20) +
+                         " MiB of memory available; use larger particles or smaller blocks");
+}
+
+}  // namespace pbf

@@ -1,0 +1,63 @@
+#include "pbf/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbf {
+
+Simulation::Simulation(const Scene& scene)
+    : scene_(scene), particles_(createParticles(scene)), solver_(scene.simulation) {}
+
+double Simulation::adaptiveSubstep(double remaining) const {
+    const SolverParams& s = scene_.simulation.solver;
+    const double maxDt = s.maxTimeStep;
+    const double speed = double(maxSpeed(particles_)) + length(scene_.simulation.gravity) * maxDt;
+    double dt = maxDt;
+    if (speed > 0.0) dt = std::min(dt, s.cfl * scene_.simulation.particleSpacing() / speed);
+    dt = std::max(dt, frameDuration() / s.maxSubsteps);
+    const double steps = std::max(1.0, std::ceil(remaining / dt - 1e-6));
+    return remaining / steps;
+}
+
+FrameReport Simulation::advanceFrame() {
+    const SolverParams& s = scene_.simulation.solver;
+    const double frameDt = frameDuration();
+    FrameReport report;
+    double remaining = frameDt;
+    int substeps = 0;
+    while (remaining > 1e-12 * frameDt) {
+        double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
+                                                          : adaptiveSubstep(remaining);
+        if (dt > remaining * (1.0 - 1e-9)) dt = remaining;  // last step ends the frame exactly
+        solver_.step(particles_, static_cast<float>(dt));
+        const StageTimes& t = solver_.lastStageTimes();
+        report.stageMs.predict += t.predict;
+        report.stageMs.neighborSearch += t.neighborSearch;
+        report.stageMs.solve += t.solve;
+        report.stageMs.postProcess += t.postProcess;
+        report.stageMs.total += t.total;
+        remaining -= dt;
+        ++substeps;
+    }
+    ++frame_;
+    time_ = frame_ * frameDt;  // no drift from summing substeps
+    const FrameReport state = this->report();
+    report.frame = state.frame;
+    report.time = state.time;
+    report.iterations = state.iterations;
+    report.state = state.state;
+    report.substeps = substeps;
+    report.stepMs = substeps > 0 ? report.stageMs.total / substeps : 0.0;
+    return report;
+}
+
+FrameReport Simulation::report() const {
+    FrameReport r;
+    r.frame = frame_;
+    r.time = time_;
+    r.iterations = scene_.simulation.solver.iterations;
+    r.state = computeStatistics(particles_, solver_.constants(), scene_.simulation.domain);
+    return r;
+}
+
+}  // namespace pbf

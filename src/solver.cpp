@@ -1,0 +1,158 @@
+#include "pbf/solver.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "parallel.hpp"
+#include "solver_stages.hpp"
+
+namespace pbf {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+SolverConstants SolverConstants::from(const SimulationParams& params) {
+    SolverConstants c;
+    c.h = params.kernelRadius();
+    c.restDensity = params.fluid.restDensity;
+    c.inverseRestDensity = 1.0f / c.restDensity;
+    c.poly6 = Poly6Kernel::withRadius(c.h);
+    c.spiky = SpikyKernel::withRadius(c.h);
+
+    // Sum the kernels over the rest lattice (cubic, spacing 2r) seen by one
+    // interior particle. The mass is chosen so that this lattice has exactly
+    // rest density, so a resting block starts with zero constraint error.
+    const double d = params.particleSpacing();
+    const int reach = static_cast<int>(std::ceil(c.h / d));
+    double kernelSum = 0.0;
+    double gradientSquaredSum = 0.0;
+    for (int a = -reach; a <= reach; ++a)
+        for (int b = -reach; b <= reach; ++b)
+            for (int k = -reach; k <= reach; ++k) {
+                const Vec3 r{float(a * d), float(b * d), float(k * d)};
+                kernelSum += c.poly6.value(lengthSquared(r));
+                gradientSquaredSum += lengthSquared(c.spiky.gradient(r, length(r)));
+            }
+    c.particleMass = static_cast<float>(c.restDensity / kernelSum);
+    const double gradScale = c.particleMass / double(c.restDensity);
+    // sum_k |grad_k C_i|^2 = |sum_j grad W|^2 + sum_j |grad W|^2, scaled by (m/rho0)^2;
+    // the first term vanishes on a symmetric lattice.
+    c.restGradientSum = static_cast<float>(gradScale * gradScale * gradientSquaredSum);
+
+    const SolverParams& s = params.solver;
+    // Units trap (DESIGN.md): the paper's epsilon and s_corr k are relative to
+    // the constraint's natural scale; multiply / divide by restGradientSum.
+    c.relaxationEpsilon = s.relaxation * c.restGradientSum;
+    c.scorrScale = -s.artificialPressure.k / c.restGradientSum;
+    const float dq = s.artificialPressure.dq * c.h;
+    c.scorrInverseWdq = 1.0f / c.poly6.value(dq * dq);
+    c.scorrExponent = s.artificialPressure.n;
+
+    const float r = params.particleRadius;
+    c.collisionBox = {params.domain.min + Vec3{r, r, r}, params.domain.max - Vec3{r, r, r}};
+    return c;
+}
+
+Solver::Solver(const SimulationParams& params)
+    : params_(params),
+      constants_(SolverConstants::from(params)),
+      search_(params.domain, params.kernelRadius()) {}
+
+void Solver::setParams(const SimulationParams& params) {
+    if (!(params.domain == params_.domain) || params.particleRadius != params_.particleRadius ||
+        params.solver.kernelRadiusFactor != params_.solver.kernelRadiusFactor)
+        throw std::invalid_argument("Solver::setParams cannot change domain or particle size");
+    params_ = params;
+    constants_ = SolverConstants::from(params);
+}
+
+void Solver::ensureCapacity(std::size_t n) {
+    if (lambda_.size() == n) return;
+    lambda_.resize(n);
+    delta_.resize(n);
+    vorticity_.resize(n);
+}
+
+void Solver::step(ParticleStore& p, float dt) {
+    const std::size_t n = p.size();
+    ensureCapacity(n);
+    const SolverConstants& c = constants_;
+    const Aabb& box = c.collisionBox;
+    const auto stepStart = Clock::now();
+
+    auto t = Clock::now();
+    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        stages::predictPositions(params_.gravity, dt, box, p.position, p.velocity, p.predicted, b, e);
+    });
+    times_.predict = millisecondsSince(t);
+
+    t = Clock::now();
+    search_.sortByCell(p.predicted, perm_);
+    p.reorder(perm_);
+    search_.buildNeighborLists(p.predicted);
+    times_.neighborSearch = millisecondsSince(t);
+
+    t = Clock::now();
+    float* density = p.density.data();
+    float* lambda = lambda_.data();
+    for (int iteration = 0; iteration < params_.solver.iterations; ++iteration) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::computeDensityAndLambda(c, search_, p.predicted, density, lambda, b, e);
+        });
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::computePositionCorrection(c, search_, p.predicted, lambda, delta_, b, e);
+        });
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::applyPositionCorrection(box, delta_, p.predicted, b, e);
+        });
+    }
+    times_.solve = millisecondsSince(t);
+
+    t = Clock::now();
+    const FluidParams& fluid = params_.fluid;
+    const SolverParams& s = params_.solver;
+    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        stages::updateVelocity(1.0f / dt, p.position, p.predicted, p.velocity, b, e);
+    });
+    if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::computeVorticityAndViscosity(c, fluid.viscosity, search_, p.predicted, p.velocity,
+                                                 density, vorticity_, delta_, b, e);
+        });
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::applyVorticityAndViscosity(c, fluid.vorticity, dt, search_, p.predicted,
+                                               vorticity_, density, delta_, p.velocity, b, e);
+        });
+    }
+    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        stages::respondToWalls(box, s.restitution, s.friction, p.predicted, p.velocity, b, e);
+        stages::commitPositions(p.predicted, p.position, b, e);
+    });
+    times_.postProcess = millisecondsSince(t);
+    times_.total = millisecondsSince(stepStart);
+}
+
+std::size_t Solver::memoryBytes() const {
+    return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
+           sizeof(float) * (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
+}
+
+float maxSpeed(const ParticleStore& p) {
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
+    float maxSquared = 0.0f;
+    // max is order-independent, so this reduction is deterministic.
+#pragma omp parallel for reduction(max : maxSquared) num_threads(threadCount()) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) maxSquared = std::max(maxSquared, lengthSquared(p.velocity.get(i)));
+    return std::sqrt(maxSquared);
+}
+
+}  // namespace pbf

@@ -1,0 +1,179 @@
+#include "solver_stages.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbf::stages {
+namespace {
+
+Vec3 clampToBox(const Aabb& box, const Vec3& p) {
+    return {std::clamp(p.x, box.min.x, box.max.x), std::clamp(p.y, box.min.y, box.max.y),
+            std::clamp(p.z, box.min.z, box.max.z)};
+}
+
+// (W(r)/W(dq h))^n for small integer n without std::pow.
+float scorrPower(float ratio, int n) {
+    float result = ratio;
+    for (int k = 1; k < n; ++k) result *= ratio;
+    return result;
+}
+
+}  // namespace
+
+void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
+                      Float3Array& velocity, Float3Array& predicted, std::size_t begin,
+                      std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 v = velocity.get(i) + dt * gravity;
+        velocity.set(i, v);
+        predicted.set(i, clampToBox(box, position.get(i) + dt * v));
+    }
+}
+
+void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& search,
+                             const Float3Array& predicted, float* density, float* lambda,
+                             std::size_t begin, std::size_t end) {
+    const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 xi = predicted.get(i);
+        float kernelSum = c.poly6.value(0.0f);
+        Vec3 gradI{};
+        float gradSquaredSum = 0.0f;
+        for (const std::uint32_t j : search.neighbors(i)) {
+            const Vec3 rij = xi - predicted.get(j);
+            const float r2 = lengthSquared(rij);
+            kernelSum += c.poly6.value(r2);
+            const Vec3 g = c.spiky.gradient(rij, std::sqrt(r2)) * gradScale;
+            gradI += g;
+            gradSquaredSum += lengthSquared(g);
+        }
+        const float rho = c.particleMass * kernelSum;
+        density[i] = rho;
+        const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
+        lambda[i] = -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
+    }
+}
+
+void computePositionCorrection(const SolverConstants& c, const NeighborSearch& search,
+                               const Float3Array& predicted, const float* lambda,
+                               Float3Array& delta, std::size_t begin, std::size_t end) {
+    const float scale = c.particleMass * c.inverseRestDensity;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 xi = predicted.get(i);
+        const float lambdaI = lambda[i];
+        Vec3 dp{};
+        for (const std::uint32_t j : search.neighbors(i)) {
+            const Vec3 rij = xi - predicted.get(j);
+            const float r2 = lengthSquared(rij);
+            // Artificial pressure (eq. 13): a small repulsion that keeps
+            // particles from clumping where the constraint is inactive.
+            const float scorr =
+                c.scorrScale * scorrPower(c.poly6.value(r2) * c.scorrInverseWdq, c.scorrExponent);
+            dp += c.spiky.gradient(rij, std::sqrt(r2)) * (lambdaI + lambda[j] + scorr);
+        }
+        delta.set(i, dp * scale);
+    }
+}
+
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta, Float3Array& predicted,
+                             std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        predicted.set(i, clampToBox(box, predicted.get(i) + delta.get(i)));
+}
+
+void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
+                    Float3Array& velocity, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        velocity.set(i, (predicted.get(i) - position.get(i)) * inverseDt);
+}
+
+void computeVorticityAndViscosity(const SolverConstants& c, float viscosity,
+                                  const NeighborSearch& search, const Float3Array& predicted,
+                                  const Float3Array& velocity, const float* density,
+                                  Float3Array& vorticity, Float3Array& viscosityDelta,
+                                  std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 xi = predicted.get(i);
+        const Vec3 vi = velocity.get(i);
+        const float rhoI = density[i];
+        Vec3 omega{};
+        Vec3 dv{};
+        for (const std::uint32_t j : search.neighbors(i)) {
+            const Vec3 rij = xi - predicted.get(j);
+            const float r2 = lengthSquared(rij);
+            const Vec3 vij = velocity.get(j) - vi;
+            const float volumeJ = c.particleMass / density[j];
+            omega += cross(c.spiky.gradient(rij, std::sqrt(r2)), vij) * volumeJ;
+            dv += vij * (2.0f * c.particleMass / (rhoI + density[j]) * c.poly6.value(r2));
+        }
+        vorticity.set(i, omega);
+        viscosityDelta.set(i, dv * viscosity);
+    }
+}
+
+void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon, float dt,
+                                const NeighborSearch& search, const Float3Array& predicted,
+                                const Float3Array& vorticity, const float* density,
+                                const Float3Array& viscosityDelta, Float3Array& velocity,
+                                std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+        Vec3 v = velocity.get(i) + viscosityDelta.get(i);
+        if (vorticityEpsilon > 0.0f) {
+            const Vec3 xi = predicted.get(i);
+            const Vec3 omegaI = vorticity.get(i);
+            const float magnitudeI = length(omegaI);
+            Vec3 eta{};  // gradient of |omega| (SPH difference form)
+            for (const std::uint32_t j : search.neighbors(i)) {
+                const Vec3 rij = xi - predicted.get(j);
+                const float r = length(rij);
+                const float volumeJ = c.particleMass / density[j];
+                eta += c.spiky.gradient(rij, r) * ((length(vorticity.get(j)) - magnitudeI) * volumeJ);
+            }
+            const float etaLength = length(eta);
+            if (etaLength > 1e-20f) {
+                const Vec3 normal = eta * (1.0f / etaLength);
+                v += cross(normal, omegaI) * (dt * vorticityEpsilon * c.h * magnitudeI);
+            }
+        }
+        velocity.set(i, v);
+    }
+}
+
+void respondToWalls(const Aabb& box, float restitution, float friction,
+                    const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                    std::size_t end) {
+    const float tolerance = 1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 x = predicted.get(i);
+        Vec3 v = velocity.get(i);
+        for (int axis = 0; axis < 3; ++axis) {
+            float* vn = axis == 0 ? &v.x : (axis == 1 ? &v.y : &v.z);
+            const bool onMin = x[axis] <= box.min[axis] + tolerance && *vn < 0.0f;
+            const bool onMax = x[axis] >= box.max[axis] - tolerance && *vn > 0.0f;
+            if (!onMin && !onMax) continue;
+            const float normalSpeed = std::fabs(*vn);
+            *vn = -restitution * *vn;
+            // Coulomb friction: the tangential speed drops by mu times the
+            // normal speed change, never below zero.
+            float* t1 = axis == 0 ? &v.y : &v.x;
+            float* t2 = axis == 2 ? &v.y : &v.z;
+            const float tangential = std::sqrt(*t1 * *t1 + *t2 * *t2);
+            if (tangential > 0.0f) {
+                const float keep =
+                    std::max(0.0f, 1.0f - friction * (1.0f + restitution) * normalSpeed / tangential);
+                *t1 *= keep;
+                *t2 *= keep;
+            }
+        }
+        velocity.set(i, v);
+    }
+}
+
+void commitPositions(const Float3Array& predicted, Float3Array& position, std::size_t begin,
+                     std::size_t end) {
+    std::copy(predicted.x.begin() + begin, predicted.x.begin() + end, position.x.begin() + begin);
+    std::copy(predicted.y.begin() + begin, predicted.y.begin() + end, position.y.begin() + begin);
+    std::copy(predicted.z.begin() + begin, predicted.z.begin() + end, position.z.begin() + begin);
+}
+
+}  // namespace pbf::stages

@@ -1,0 +1,69 @@
+// The stages of one PBF step, each a function over the particle range
+// [begin, end). Constant inputs come first, the arrays a stage writes last.
+// A stage writes only the entries of its own range and reads neighbours'
+// values from arrays no stage of the same pass writes (Jacobi style), which
+// is what makes the step deterministic under any thread count.
+#pragma once
+
+#include <cstddef>
+
+#include "pbf/neighbor_search.hpp"
+#include "pbf/particles.hpp"
+#include "pbf/solver.hpp"
+
+namespace pbf::stages {
+
+// Alg. 1 l. 2-3: v += dt g; x* = x + dt v, projected into the collision box.
+void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
+                      Float3Array& velocity, Float3Array& predicted, std::size_t begin,
+                      std::size_t end);
+
+// Paper eq. 1-2 and 11: density rho_i (poly6) and the Lagrange multiplier
+// lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), with C_i = max(rho_i/rho0 - 1, 0)
+// so that particles at a free surface (missing neighbours) are never pulled in.
+void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& search,
+                             const Float3Array& predicted, float* density, float* lambda,
+                             std::size_t begin, std::size_t end);
+
+// Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij.
+void computePositionCorrection(const SolverConstants& c, const NeighborSearch& search,
+                               const Float3Array& predicted, const float* lambda,
+                               Float3Array& delta, std::size_t begin, std::size_t end);
+
+// x* += dp, then projection into the collision box (Alg. 1 l. 16-18).
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta, Float3Array& predicted,
+                             std::size_t begin, std::size_t end);
+
+// Alg. 1 l. 21: v = (x* - x) / dt.
+void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
+                    Float3Array& velocity, std::size_t begin, std::size_t end);
+
+// Curl omega_i = sum_j V_j grad_i W_ij x (v_j - v_i) (paper eq. 15) and the
+// XSPH increment dv_i = c sum_j 2m/(rho_i + rho_j) (v_j - v_i) W_ij (eq. 17,
+// with the symmetric volume so that momentum is conserved).
+void computeVorticityAndViscosity(const SolverConstants& c, float viscosity,
+                                  const NeighborSearch& search, const Float3Array& predicted,
+                                  const Float3Array& velocity, const float* density,
+                                  Float3Array& vorticity, Float3Array& viscosityDelta,
+                                  std::size_t begin, std::size_t end);
+
+// Vorticity confinement (eq. 16): N = eta/|eta|, eta = grad |omega|, and
+// a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i and the XSPH increment.
+void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon, float dt,
+                                const NeighborSearch& search, const Float3Array& predicted,
+                                const Float3Array& vorticity, const float* density,
+                                const Float3Array& viscosityDelta, Float3Array& velocity,
+                                std::size_t begin, std::size_t end);
+
+// Particles touching a wall of the collision box: the normal velocity into
+// the wall is reflected with `restitution`; the tangential velocity loses
+// Coulomb friction proportional to the normal impulse.
+void respondToWalls(const Aabb& box, float restitution, float friction,
+                    const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                    std::size_t end);
+
+// Alg. 1 l. 23: x = x*.
+void commitPositions(const Float3Array& predicted, Float3Array& position, std::size_t begin,
+                     std::size_t end);
+
+}  // namespace pbf::stages

@@ -1,0 +1,92 @@
+// The grid neighbour search finds exactly the pairs a brute-force search finds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+#include "pbf/neighbor_search.hpp"
+#include "pbf/particles.hpp"
+
+namespace {
+
+using pbf::Aabb;
+using pbf::Vec3;
+
+std::vector<std::uint32_t> bruteForce(const pbf::Float3Array& x, std::size_t i, float h) {
+    std::vector<std::uint32_t> result;
+    for (std::size_t j = 0; j < x.size(); ++j) {
+        const float dx = x.x[i] - x.x[j], dy = x.y[i] - x.y[j], dz = x.z[i] - x.z[j];
+        if (j != i && dx * dx + dy * dy + dz * dz < h * h) result.push_back(static_cast<std::uint32_t>(j));
+    }
+    return result;
+}
+
+// Sorts, reorders and builds lists, then compares every particle's list.
+void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float h) {
+    pbf::ParticleStore p;
+    for (const Vec3& x : points) p.add(x, {}, 1000.0f);
+    pbf::NeighborSearch search(domain, h);
+    std::vector<std::uint32_t> perm;
+    search.sortByCell(p.predicted, perm);
+    p.reorder(perm);
+    // Sorted by cell: cell indices never decrease along the array.
+    for (std::size_t i = 1; i < p.size(); ++i)
+        ASSERT_LE(search.cellIndexOf(p.predicted.get(i - 1)), search.cellIndexOf(p.predicted.get(i)));
+    search.buildNeighborLists(p.predicted);
+    std::size_t pairs = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const auto span = search.neighbors(i);
+        std::vector<std::uint32_t> found(span.begin(), span.end());
+        std::sort(found.begin(), found.end());
+        ASSERT_EQ(found, bruteForce(p.predicted, i, h)) << "particle " << i;
+        pairs += found.size();
+    }
+    EXPECT_EQ(pairs, search.totalNeighborCount());
+}
+
+const Aabb kUnitBox{{0, 0, 0}, {1, 1, 1}};
+
+TEST(NeighborSearch, RandomPoints) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Vec3> points(3000);
+    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    expectMatchesBruteForce(points, kUnitBox, 0.07f);
+}
+
+TEST(NeighborSearch, AllInOneCell) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> u(0.50f, 0.55f);
+    std::vector<Vec3> points(500);
+    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    expectMatchesBruteForce(points, kUnitBox, 0.1f);
+}
+
+TEST(NeighborSearch, PointsOnCellBorders) {
+    // A lattice whose spacing is half the cell: every other point lies on a
+    // cell face, edge or corner, and many pairs sit at exactly h.
+    const float h = 0.1f;
+    std::vector<Vec3> points;
+    for (int i = 0; i <= 10; ++i)
+        for (int j = 0; j <= 10; ++j)
+            for (int k = 0; k <= 6; ++k) points.push_back({float(i) * 0.05f, float(j) * 0.05f, float(k) * 0.05f});
+    expectMatchesBruteForce(points, kUnitBox, h);
+}
+
+TEST(NeighborSearch, PointsOutsideTheGrid) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.5f, 1.5f);
+    std::vector<Vec3> points(2000);
+    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    // Clusters far outside on opposite sides must still see each other only.
+    for (int k = 0; k < 20; ++k) points.push_back({-3.0f + 0.01f * float(k), 5.0f, 0.5f});
+    for (int k = 0; k < 20; ++k) points.push_back({4.0f, -2.0f + 0.01f * float(k), -7.0f});
+    expectMatchesBruteForce(points, kUnitBox, 0.08f);
+}
+
+TEST(NeighborSearch, RefusesGridsBeyondTheCellLimit) {
+    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {100, 100, 100}}, 0.001f, 1u << 20), std::invalid_argument);
+}
+
+}  // namespace

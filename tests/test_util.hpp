@@ -1,0 +1,22 @@
+// Helpers shared by the tests.
+#pragma once
+
+#include <string>
+
+#include "pbf/scene.hpp"
+
+namespace pbf::test {
+
+inline std::string scenePath(const std::string& name) { return std::string(PBF_SCENES_DIR) + "/" + name; }
+
+// A small valid scene as JSON text, with `extra` spliced into the top-level object.
+inline std::string smallSceneJson(const std::string& extra = "") {
+    return R"({
+      "name": "small",
+      "domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]},
+      "particle_radius": 0.02,
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}])" +
+           (extra.empty() ? std::string() : ", " + extra) + "}";
+}
+
+}  // namespace pbf::test
