@@ -46,8 +46,12 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
             node = &(*node)[part];
         }
     }
-    json value = json::parse(o.value, nullptr, /*allow_exceptions=*/false);
-    *node = value.is_discarded() ? json(o.value) : std::move(value);
+    // A value that is not JSON (a bare word) is taken as a string.
+    try {
+        *node = json::parse(o.value);
+    } catch (const json::exception&) {
+        *node = json(o.value);
+    }
 }
 
 Aabb readBox(JsonReader& r) {
@@ -132,14 +136,11 @@ SceneOverride parseOverride(std::string_view assignment) {
 
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides) {
-    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
-    if (document.is_discarded()) {
-        // Parse again with exceptions for the position of the error.
-        try {
-            document = json::parse(jsonText, nullptr, true, true);
-        } catch (const json::parse_error& e) {
-            throw SceneError(sourceName + ": not valid JSON: " + e.what());
-        }
+    json document;
+    try {
+        document = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    } catch (const json::exception& e) {
+        throw SceneError(sourceName + ": not valid JSON: " + e.what());
     }
     for (const SceneOverride& o : overrides) applyOverride(document, o, sourceName);
 

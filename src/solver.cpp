@@ -18,6 +18,30 @@ double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// Sums the kernels over the wall's lattice for distances s in [0, h - r].
+WallTable makeWallTable(const SolverConstants& c, double radius, double spacing) {
+    WallTable table;
+    table.range = static_cast<float>(c.h - radius);
+    table.inverseStep = WallTable::kSamples / table.range;
+    const int reach = static_cast<int>(std::ceil(c.h / spacing));
+    for (int sample = 0; sample <= WallTable::kSamples; ++sample) {
+        const double s = double(sample) / table.inverseStep;
+        double kernelSum = 0.0, gradientSum = 0.0;
+        for (int layer = 0; s + radius + layer * spacing < c.h; ++layer) {
+            const double depth = s + radius + layer * spacing;  // normal distance to the layer
+            for (int a = -reach; a <= reach; ++a)
+                for (int b = -reach; b <= reach; ++b) {
+                    const Vec3 rij{float(a * spacing), float(b * spacing), float(depth)};
+                    kernelSum += c.poly6.value(lengthSquared(rij));
+                    gradientSum -= c.spiky.gradient(rij, length(rij)).z;  // component into the wall
+                }
+        }
+        table.kernelSum[sample] = static_cast<float>(kernelSum);
+        table.gradientSum[sample] = static_cast<float>(gradientSum);
+    }
+    return table;
+}
+
 }  // namespace
 
 SolverConstants SolverConstants::from(const SimulationParams& params) {
@@ -58,7 +82,9 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.scorrExponent = s.artificialPressure.n;
 
     const float r = params.particleRadius;
+    c.domain = params.domain;
     c.collisionBox = {params.domain.min + Vec3{r, r, r}, params.domain.max - Vec3{r, r, r}};
+    c.wall = makeWallTable(c, params.particleRadius, params.particleSpacing());
     return c;
 }
 

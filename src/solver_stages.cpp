@@ -18,6 +18,26 @@ float scorrPower(float ratio, int n) {
     return result;
 }
 
+// Adds the walls of the domain box within reach of x: their kernel sum and
+// the gradient of that sum with respect to x (pointing into the walls).
+void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum, Vec3& gradient) {
+    const WallTable& w = c.wall;
+    auto add = [&](float distance, float Vec3::*axis, float outward) {
+        if (!(distance < w.range)) return;
+        const float t = std::max(distance, 0.0f) * w.inverseStep;
+        const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
+        const float f = t - float(k);
+        kernelSum += w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
+        gradient.*axis += outward * (w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]));
+    };
+    add(x.x - c.domain.min.x, &Vec3::x, -1.0f);
+    add(c.domain.max.x - x.x, &Vec3::x, 1.0f);
+    add(x.y - c.domain.min.y, &Vec3::y, -1.0f);
+    add(c.domain.max.y - x.y, &Vec3::y, 1.0f);
+    add(x.z - c.domain.min.z, &Vec3::z, -1.0f);
+    add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
+}
+
 }  // namespace
 
 void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
@@ -47,6 +67,11 @@ void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& sea
             gradI += g;
             gradSquaredSum += lengthSquared(g);
         }
+        // The walls are fixed: they add to rho_i and to grad_i C_i, but have
+        // no gradient terms of their own.
+        Vec3 wallGradient{};
+        addWallContribution(c, xi, kernelSum, wallGradient);
+        gradI += wallGradient * gradScale;
         const float rho = c.particleMass * kernelSum;
         density[i] = rho;
         const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
@@ -71,6 +96,11 @@ void computePositionCorrection(const SolverConstants& c, const NeighborSearch& s
                 c.scorrScale * scorrPower(c.poly6.value(r2) * c.scorrInverseWdq, c.scorrExponent);
             dp += c.spiky.gradient(rij, std::sqrt(r2)) * (lambdaI + lambda[j] + scorr);
         }
+        // The walls' share of grad_i C_i (they carry no lambda of their own).
+        float unusedKernelSum = 0.0f;
+        Vec3 wallGradient{};
+        addWallContribution(c, xi, unusedKernelSum, wallGradient);
+        dp += wallGradient * lambdaI;
         delta.set(i, dp * scale);
     }
 }

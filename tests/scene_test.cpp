@@ -89,7 +89,8 @@ TEST(Scene, BlockOutsideDomain) {
 }
 TEST(Scene, NonsenseParticleRadius) {
     expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "-1.0"), {"particle_radius"});
-    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e999"), {"particle_radius"});
+    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e999"), {"not valid JSON", "1e999"});
+    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e30"), {"particle_radius"});
 }
 
 TEST(Scene, OverridesApplyAndAreValidated) {

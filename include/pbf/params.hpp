@@ -47,7 +47,10 @@ struct SolverParams {
     // Adaptive mode: substep dt = cfl * particle spacing / max speed, within
     // [frame / maxSubsteps, maxTimeStep].
     float cfl = 0.4f;              // (0, 1]
-    float maxTimeStep = 1.0f / 120.0f;  // seconds, (0, 1]
+    // The cap matters for slow flows: PBF's residual velocity noise at rest
+    // scales with g dt (4 Jacobi iterations remove most, not all, of each
+    // step's gravity push), so a resting tank settles at 1/240 s, not 1/60 s.
+    float maxTimeStep = 1.0f / 240.0f;  // seconds, (0, 1]
     int maxSubsteps = 200;         // per frame, [1, 10000]
     // Fixed mode: exactly this many substeps per frame.
     int fixedSubsteps = 2;         // [1, 10000]

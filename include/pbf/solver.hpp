@@ -22,6 +22,20 @@
 
 namespace pbf {
 
+// Density contribution of a flat wall of the domain box, tabulated against
+// the distance s from the wall. The wall is modelled as the rest lattice
+// continued beyond the plane (layers at s + r + k 2r), so a particle of the
+// initial lattice next to a wall has exactly rest density and fluid at a wall
+// is neither under-dense nor pulled towards it (the same role as the boundary
+// particles of Akinci et al. 2012, here for the box in closed form).
+struct WallTable {
+    static constexpr int kSamples = 64;
+    float range = 0.0f;         // distances beyond this see no wall (h - r)
+    float inverseStep = 0.0f;   // samples per metre
+    float kernelSum[kSamples + 1] = {};    // sum over wall lattice of W, 1/m^3
+    float gradientSum[kSamples + 1] = {};  // |sum of spiky grad W|, 1/m^4, points into the wall
+};
+
 // SI constants derived once from SimulationParams.
 struct SolverConstants {
     float h = 0.0f;              // kernel radius, m
@@ -38,7 +52,9 @@ struct SolverConstants {
     float scorrScale = 0.0f;
     float scorrInverseWdq = 0.0f;    // 1 / W(dq h)
     int scorrExponent = 4;
+    Aabb domain;                     // walls of the box
     Aabb collisionBox;               // domain shrunk by the particle radius
+    WallTable wall;
 
     static SolverConstants from(const SimulationParams& params);
 };
