@@ -113,27 +113,34 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
         });
     };
 
+    // One distance pass: each block of particles appends its lists to its
+    // own buffer (kept between steps), then the buffers are copied into the
+    // CSR array at offsets from a prefix sum over the counts.
+    const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
+    if (blockLists_.size() < blocks) blockLists_.resize(blocks);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
+        std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
+        list.clear();
         for (std::size_t i = begin; i < end; ++i) {
-            std::uint32_t count = 0;
-            forEachNeighbor(i, [&](std::uint32_t) { ++count; });
-            counts_[i] = count;
+            const std::size_t before = list.size();
+            forEachNeighbor(i, [&](std::uint32_t j) { list.push_back(j); });
+            counts_[i] = static_cast<std::uint32_t>(list.size() - before);
         }
     });
     offsets_[0] = 0;
     for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
     // Grows only when the total exceeds every earlier step's (amortised).
     if (indices_.size() < offsets_[n]) indices_.resize(offsets_[n] + offsets_[n] / 4);
-    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            std::uint32_t* out = indices_.data() + offsets_[i];
-            forEachNeighbor(i, [&](std::uint32_t j) { *out++ = j; });
-        }
+    detail::parallelFor(n, [&](std::size_t begin, std::size_t) {
+        const std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
+        std::copy(list.begin(), list.end(), indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[begin]));
     });
 }
 
 std::size_t NeighborSearch::memoryBytes() const {
-    return sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
+    std::size_t blockBytes = 0;
+    for (const auto& list : blockLists_) blockBytes += sizeof(std::uint32_t) * list.capacity();
+    return blockBytes + sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
                                     cellCursor_.capacity() + sortedCell_.capacity() +
                                     counts_.capacity() + indices_.capacity()) +
            sizeof(std::size_t) * offsets_.capacity();

@@ -50,27 +50,50 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
     }
 }
 
+// The neighbour loops below accumulate into scalars under `omp simd`
+// reductions so that the compiler vectorises them (gathering x_j). The
+// vectorised order of additions is fixed by the code and the neighbour count
+// alone, so results stay bit-identical across thread counts.
+
 void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& search,
                              const Float3Array& predicted, float* density, float* lambda,
                              std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
+    const float* px = predicted.x.data();
+    const float* py = predicted.y.data();
+    const float* pz = predicted.z.data();
+    const float h = c.h, h2 = c.poly6.h2;
+    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient * gradScale;
     for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 xi = predicted.get(i);
-        float kernelSum = c.poly6.value(0.0f);
-        Vec3 gradI{};
-        float gradSquaredSum = 0.0f;
-        for (const std::uint32_t j : search.neighbors(i)) {
-            const Vec3 rij = xi - predicted.get(j);
-            const float r2 = lengthSquared(rij);
-            kernelSum += c.poly6.value(r2);
-            const Vec3 g = c.spiky.gradient(rij, std::sqrt(r2)) * gradScale;
-            gradI += g;
-            gradSquaredSum += lengthSquared(g);
+        const float xi = px[i], yi = py[i], zi = pz[i];
+        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
+        const std::uint32_t* nb = nbrs.data();
+        const int count = static_cast<int>(nbrs.size());
+        float kernelSum = 0.0f, gx = 0.0f, gy = 0.0f, gz = 0.0f, gradSquaredSum = 0.0f;
+#pragma omp simd reduction(+ : kernelSum, gx, gy, gz, gradSquaredSum)
+        for (int k = 0; k < count; ++k) {
+            const std::uint32_t j = nb[k];
+            const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            const float r = std::sqrt(r2);
+            // Neighbours are closer than h by construction, but x* moved
+            // since the lists were built: keep the kernels' support exact.
+            const bool inside = r2 < h2 && r > 0.0f;
+            const float d2 = h2 - r2;
+            kernelSum += inside ? poly6 * d2 * d2 * d2 : 0.0f;
+            const float d = h - r;
+            const float g = inside ? spiky * d * d / r : 0.0f;  // grad C_i wrt x_j, scaled
+            gx += g * dx;
+            gy += g * dy;
+            gz += g * dz;
+            gradSquaredSum += g * g * r2;
         }
+        kernelSum += c.poly6.value(0.0f);
         // The walls are fixed: they add to rho_i and to grad_i C_i, but have
         // no gradient terms of their own.
+        Vec3 gradI{gx, gy, gz};
         Vec3 wallGradient{};
-        addWallContribution(c, xi, kernelSum, wallGradient);
+        addWallContribution(c, {xi, yi, zi}, kernelSum, wallGradient);
         gradI += wallGradient * gradScale;
         const float rho = c.particleMass * kernelSum;
         density[i] = rho;
@@ -83,23 +106,45 @@ void computePositionCorrection(const SolverConstants& c, const NeighborSearch& s
                                const Float3Array& predicted, const float* lambda,
                                Float3Array& delta, std::size_t begin, std::size_t end) {
     const float scale = c.particleMass * c.inverseRestDensity;
+    const float* px = predicted.x.data();
+    const float* py = predicted.y.data();
+    const float* pz = predicted.z.data();
+    const float h = c.h, h2 = c.poly6.h2;
+    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient;
+    const float scorrScale = c.scorrScale, inverseWdq = c.scorrInverseWdq;
+    const int exponent = c.scorrExponent;
     for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 xi = predicted.get(i);
+        const float xi = px[i], yi = py[i], zi = pz[i];
         const float lambdaI = lambda[i];
-        Vec3 dp{};
-        for (const std::uint32_t j : search.neighbors(i)) {
-            const Vec3 rij = xi - predicted.get(j);
-            const float r2 = lengthSquared(rij);
+        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
+        const std::uint32_t* nb = nbrs.data();
+        const int count = static_cast<int>(nbrs.size());
+        float sx = 0.0f, sy = 0.0f, sz = 0.0f;
+#pragma omp simd reduction(+ : sx, sy, sz)
+        for (int k = 0; k < count; ++k) {
+            const std::uint32_t j = nb[k];
+            const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            const float r = std::sqrt(r2);
+            const bool inside = r2 < h2 && r > 0.0f;
+            const float d2 = h2 - r2;
             // Artificial pressure (eq. 13): a small repulsion that keeps
             // particles from clumping where the constraint is inactive.
-            const float scorr =
-                c.scorrScale * scorrPower(c.poly6.value(r2) * c.scorrInverseWdq, c.scorrExponent);
-            dp += c.spiky.gradient(rij, std::sqrt(r2)) * (lambdaI + lambda[j] + scorr);
+            const float ratio = (inside ? poly6 * d2 * d2 * d2 : 0.0f) * inverseWdq;
+            const float ratio2 = ratio * ratio;
+            const float power = exponent == 4 ? ratio2 * ratio2 : scorrPower(ratio, exponent);
+            const float d = h - r;
+            const float g = inside ? spiky * d * d / r : 0.0f;
+            const float weight = g * (lambdaI + lambda[j] + scorrScale * power);
+            sx += weight * dx;
+            sy += weight * dy;
+            sz += weight * dz;
         }
         // The walls' share of grad_i C_i (they carry no lambda of their own).
+        Vec3 dp{sx, sy, sz};
         float unusedKernelSum = 0.0f;
         Vec3 wallGradient{};
-        addWallContribution(c, xi, unusedKernelSum, wallGradient);
+        addWallContribution(c, {xi, yi, zi}, unusedKernelSum, wallGradient);
         dp += wallGradient * lambdaI;
         delta.set(i, dp * scale);
     }

@@ -74,6 +74,7 @@ private:
     std::vector<std::uint32_t> counts_;          // neighbours per particle
     std::vector<std::size_t> offsets_;           // CSR offsets, size n + 1
     std::vector<std::uint32_t> indices_;         // CSR neighbour indices
+    std::vector<std::vector<std::uint32_t>> blockLists_;  // per-block lists before the CSR copy
 };
 
 }  // namespace pbf
