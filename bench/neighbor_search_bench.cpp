@@ -19,7 +19,8 @@ pbf::ParticleStore jitteredCube(std::size_t target, float spacing) {
     for (std::size_t k = 0; k < side; ++k)
         for (std::size_t j = 0; j < side; ++j)
             for (std::size_t i = 0; i < side; ++i)
-                p.add({(float(i) + 0.5f) * spacing + jitter(rng), (float(j) + 0.5f) * spacing + jitter(rng),
+                p.add({(float(i) + 0.5f) * spacing + jitter(rng),
+                       (float(j) + 0.5f) * spacing + jitter(rng),
                        (float(k) + 0.5f) * spacing + jitter(rng)},
                       {}, 1000.0f);
     return p;

@@ -27,7 +27,8 @@ void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write) {
     std::random_device random;
     const std::filesystem::path temporary =
-        path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(random() % 1000000));
+        path.parent_path() /
+        ("." + path.filename().string() + ".tmp" + std::to_string(random() % 1000000));
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
         if (!out) throw IoError(describe(path, "cannot create file (is the directory writable?)"));

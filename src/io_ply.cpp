@@ -68,7 +68,8 @@ ParticleFrame readParticlesPly(const std::filesystem::path& path) {
         if (word == "format") {
             std::string format;
             words >> format;
-            if (format != "binary_little_endian") fail(path, "only binary_little_endian PLY is supported");
+            if (format != "binary_little_endian")
+                fail(path, "only binary_little_endian PLY is supported");
             sawFormat = true;
         } else if (word == "element") {
             std::string name;
@@ -79,10 +80,12 @@ ParticleFrame readParticlesPly(const std::filesystem::path& path) {
         } else if (word == "property" && inVertex) {
             std::string type, name;
             words >> type >> name;
-            if (type == "float" || type == "float32") properties.push_back({name, 4, true});
+            if (type == "float" || type == "float32")
+                properties.push_back({name, 4, true});
             else if (type == "uint" || type == "uint32" || type == "int" || type == "int32")
                 properties.push_back({name, 4, false});
-            else fail(path, "unsupported property type '" + type + "'");
+            else
+                fail(path, "unsupported property type '" + type + "'");
         }
     }
     if (!in || !sawFormat) fail(path, "truncated or malformed PLY header");
@@ -92,7 +95,8 @@ ParticleFrame readParticlesPly(const std::filesystem::path& path) {
     in.seekg(0, std::ios::end);
     const auto bytes = static_cast<std::size_t>(in.tellg() - headerEnd);
     in.seekg(headerEnd);
-    if (stride == 0 || count > bytes / stride) fail(path, "file is shorter than its vertex count says");
+    if (stride == 0 || count > bytes / stride)
+        fail(path, "file is shorter than its vertex count says");
 
     auto column = [&](const char* name) -> int {
         for (std::size_t k = 0; k < properties.size(); ++k)
@@ -116,7 +120,8 @@ ParticleFrame readParticlesPly(const std::filesystem::path& path) {
         return v;
     };
     for (std::size_t i = 0; i < count; ++i) {
-        if (!in.read(row.data(), static_cast<std::streamsize>(stride))) fail(path, "truncated vertex data");
+        if (!in.read(row.data(), static_cast<std::streamsize>(stride)))
+            fail(path, "truncated vertex data");
         frame.position[i] = {floatAt(ix), floatAt(iy), floatAt(iz)};
         if (!frame.velocity.empty()) frame.velocity[i] = {floatAt(ivx), floatAt(ivy), floatAt(ivz)};
         if (!frame.density.empty()) frame.density[i] = floatAt(idens);

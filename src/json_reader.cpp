@@ -15,7 +15,9 @@ const nlohmann::json& emptyArray() {
     return empty;
 }
 
-std::string typeName(const nlohmann::json& v) { return v.type_name(); }
+std::string typeName(const nlohmann::json& v) {
+    return v.type_name();
+}
 
 }  // namespace
 
@@ -30,7 +32,9 @@ void JsonReader::fail(const std::string& key, const std::string& message) const 
     throw SceneError(file_ + ": " + field(key) + ": " + message);
 }
 
-bool JsonReader::has(const std::string& key) const { return object_.contains(key); }
+bool JsonReader::has(const std::string& key) const {
+    return object_.contains(key);
+}
 
 const nlohmann::json* JsonReader::value(const std::string& key) {
     read_.insert(key);
@@ -80,8 +84,7 @@ Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
     float c[3];
     for (std::size_t k = 0; k < 3; ++k) {
         const nlohmann::json& e = (*v)[k];
-        if (!e.is_number() || !std::isfinite(e.get<double>()) ||
-            std::fabs(e.get<double>()) > 1e30)
+        if (!e.is_number() || !std::isfinite(e.get<double>()) || std::fabs(e.get<double>()) > 1e30)
             fail(key, "expected an array of 3 finite numbers, got " + v->dump());
         c[k] = static_cast<float>(e.get<double>());
     }

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
-
 #include <set>
 #include <string>
 
@@ -13,7 +12,7 @@
 namespace pbf::detail {
 
 class JsonReader {
-public:
+  public:
     // `path` is the field path of `object` ("" for the document, "solver", ...).
     JsonReader(const nlohmann::json& object, std::string path, const std::string& file);
 
@@ -24,15 +23,17 @@ public:
     std::string string(const std::string& key, const std::string& fallback);
     Vec3 vec3(const std::string& key, const Vec3& fallback);
     Vec3 requiredVec3(const std::string& key);
-    JsonReader object(const std::string& key);  // an empty object if absent
+    JsonReader object(const std::string& key);            // an empty object if absent
     const nlohmann::json& array(const std::string& key);  // an empty array if absent
     // Throws for the first key that no getter read.
     void finish() const;
 
-    std::string field(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+    std::string field(const std::string& key) const {
+        return path_.empty() ? key : path_ + "." + key;
+    }
     [[noreturn]] void fail(const std::string& key, const std::string& message) const;
 
-private:
+  private:
     const nlohmann::json* value(const std::string& key);
 
     const nlohmann::json& object_;

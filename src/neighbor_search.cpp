@@ -23,10 +23,10 @@ NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t max
     const double cells = std::ceil(double(e.x) / radius) * std::ceil(double(e.y) / radius) *
                          std::ceil(double(e.z) / radius);
     if (!(cells <= double(maxCells)))
-        throw std::invalid_argument("the domain is " + std::to_string(static_cast<long long>(cells)) +
-                                    " grid cells of the kernel radius, more than the limit of " +
-                                    std::to_string(maxCells) +
-                                    "; use a smaller domain or larger particles");
+        throw std::invalid_argument(
+            "the domain is " + std::to_string(static_cast<long long>(cells)) +
+            " grid cells of the kernel radius, more than the limit of " + std::to_string(maxCells) +
+            "; use a smaller domain or larger particles");
     nx_ = cellsAlong(e.x, radius);
     ny_ = cellsAlong(e.y, radius);
     nz_ = cellsAlong(e.z, radius);
@@ -56,7 +56,8 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
     sortedCell_.resize(n);
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) cellOfParticle_[i] = cellIndexOf(positions.get(i));
+        for (std::size_t i = begin; i < end; ++i)
+            cellOfParticle_[i] = cellIndexOf(positions.get(i));
     });
     // Stable counting sort: particles keep their relative order inside a
     // cell, so the result is the same whatever the thread count.
@@ -133,16 +134,18 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     if (indices_.size() < offsets_[n]) indices_.resize(offsets_[n] + offsets_[n] / 4);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t) {
         const std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
-        std::copy(list.begin(), list.end(), indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[begin]));
+        std::copy(list.begin(), list.end(),
+                  indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[begin]));
     });
 }
 
 std::size_t NeighborSearch::memoryBytes() const {
     std::size_t blockBytes = 0;
     for (const auto& list : blockLists_) blockBytes += sizeof(std::uint32_t) * list.capacity();
-    return blockBytes + sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
-                                    cellCursor_.capacity() + sortedCell_.capacity() +
-                                    counts_.capacity() + indices_.capacity()) +
+    return blockBytes +
+           sizeof(std::uint32_t) *
+               (cellOfParticle_.capacity() + cellStart_.capacity() + cellCursor_.capacity() +
+                sortedCell_.capacity() + counts_.capacity() + indices_.capacity()) +
            sizeof(std::size_t) * offsets_.capacity();
 }
 

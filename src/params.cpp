@@ -1,14 +1,16 @@
 #include "pbf/params.hpp"
 
-#include "pbf/neighbor_search.hpp"
-
 #include <cmath>
 #include <sstream>
+
+#include "pbf/neighbor_search.hpp"
 
 namespace pbf {
 namespace {
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 // Builds "field: must be in [lo, hi], got value".
 template <class T>
@@ -28,7 +30,8 @@ bool inRange(T value, T lo, T hi) {
 std::string validate(const SimulationParams& p) {
     if (!finite(p.domain.min) || !finite(p.domain.max)) return "domain: coordinates must be finite";
     const Vec3 e = p.domain.extent();
-    if (!(e.x > 0 && e.y > 0 && e.z > 0)) return "domain: max must be greater than min on every axis";
+    if (!(e.x > 0 && e.y > 0 && e.z > 0))
+        return "domain: max must be greater than min on every axis";
     if (!finite(p.gravity) || length(p.gravity) > 1000.0f)
         return "gravity: must be finite with magnitude <= 1000 m/s^2";
     if (!inRange(p.particleRadius, 1e-5f, 1.0f))
@@ -41,18 +44,22 @@ std::string validate(const SimulationParams& p) {
     const double h = p.kernelRadius();
     const double cells = std::ceil(e.x / h) * std::ceil(e.y / h) * std::ceil(e.z / h);
     if (cells > double(kMaxGridCells))
-        return "particle_radius: the domain holds " + std::to_string(static_cast<long long>(cells)) +
-               " grid cells of the kernel radius, more than the limit of " + std::to_string(kMaxGridCells) +
-               "; use larger particles or a smaller domain";
+        return "particle_radius: the domain holds " +
+               std::to_string(static_cast<long long>(cells)) +
+               " grid cells of the kernel radius, more than the limit of " +
+               std::to_string(kMaxGridCells) + "; use larger particles or a smaller domain";
 
     const FluidParams& f = p.fluid;
     if (!(f.restDensity > 0.0f && f.restDensity <= 1e5f))
         return outOfRange("fluid.rest_density", f.restDensity, 0.0f, 1e5f);
-    if (!inRange(f.viscosity, 0.0f, 1.0f)) return outOfRange("fluid.viscosity", f.viscosity, 0.0f, 1.0f);
-    if (!inRange(f.vorticity, 0.0f, 10.0f)) return outOfRange("fluid.vorticity", f.vorticity, 0.0f, 10.0f);
+    if (!inRange(f.viscosity, 0.0f, 1.0f))
+        return outOfRange("fluid.viscosity", f.viscosity, 0.0f, 1.0f);
+    if (!inRange(f.vorticity, 0.0f, 10.0f))
+        return outOfRange("fluid.vorticity", f.vorticity, 0.0f, 10.0f);
 
     const SolverParams& s = p.solver;
-    if (!inRange(s.iterations, 1, 100)) return outOfRange("solver.iterations", s.iterations, 1, 100);
+    if (!inRange(s.iterations, 1, 100))
+        return outOfRange("solver.iterations", s.iterations, 1, 100);
     if (!inRange(s.relaxation, 1e-6f, 10.0f))
         return outOfRange("solver.relaxation", s.relaxation, 1e-6f, 10.0f);
     if (!inRange(s.artificialPressure.k, 0.0f, 1.0f))
@@ -72,7 +79,8 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("solver.substeps", s.fixedSubsteps, 1, 10000);
     if (!inRange(s.restitution, 0.0f, 1.0f))
         return outOfRange("solver.restitution", s.restitution, 0.0f, 1.0f);
-    if (!inRange(s.friction, 0.0f, 1.0f)) return outOfRange("solver.friction", s.friction, 0.0f, 1.0f);
+    if (!inRange(s.friction, 0.0f, 1.0f))
+        return outOfRange("solver.friction", s.friction, 0.0f, 1.0f);
     return {};
 }
 

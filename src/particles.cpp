@@ -49,7 +49,8 @@ void ParticleStore::reorder(std::span<const std::uint32_t> perm) {
 std::vector<std::uint32_t> ParticleStore::orderById() const {
     std::vector<std::uint32_t> order(size());
     std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return id[a] < id[b]; });
     return order;
 }
 

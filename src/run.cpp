@@ -1,10 +1,10 @@
 #include "pbf/run.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <system_error>
 
 #include "pbf/io.hpp"
@@ -19,14 +19,17 @@ std::string statsCsvHeader() {
 
 std::string statsCsvRow(const FrameReport& r) {
     const double perStep = r.substeps > 0 ? 1.0 / r.substeps : 0.0;
-    return fmt::format("{},{:.6f},{},{},{},{:.4f},{:.6e},{:.6e},{:.6e},{},{:.5f},{:.4f},{:.4f},{:.4f}",
-                       r.frame, r.time, r.state.particles, r.substeps, r.iterations, r.stepMs,
-                       r.state.averageDensityError, r.state.maxDensityError, r.state.kineticEnergy,
-                       r.state.escaped, r.state.maxSpeed, r.stageMs.neighborSearch * perStep,
-                       r.stageMs.solve * perStep, (r.stageMs.predict + r.stageMs.postProcess) * perStep);
+    return fmt::format(
+        "{},{:.6f},{},{},{},{:.4f},{:.6e},{:.6e},{:.6e},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
+        r.time, r.state.particles, r.substeps, r.iterations, r.stepMs, r.state.averageDensityError,
+        r.state.maxDensityError, r.state.kineticEnergy, r.state.escaped, r.state.maxSpeed,
+        r.stageMs.neighborSearch * perStep, r.stageMs.solve * perStep,
+        (r.stageMs.predict + r.stageMs.postProcess) * perStep);
 }
 
-std::filesystem::path frameFileName(int frame) { return fmt::format("frame_{:05d}.ply", frame); }
+std::filesystem::path frameFileName(int frame) {
+    return fmt::format("frame_{:05d}.ply", frame);
+}
 
 namespace {
 
@@ -63,9 +66,11 @@ RunSummary runScene(const Scene& scene, const RunOptions& options) {
     double densityErrorSum = 0.0;
     auto record = [&](const FrameReport& report) {
         if (options.writeParticles)
-            writeParticlesPly(options.outputDirectory / frameFileName(report.frame), simulation.particles());
+            writeParticlesPly(options.outputDirectory / frameFileName(report.frame),
+                              simulation.particles());
         csv += statsCsvRow(report) + "\n";
-        writeFileAtomically(options.outputDirectory / "stats.csv", [&](std::ostream& out) { out << csv; });
+        writeFileAtomically(options.outputDirectory / "stats.csv",
+                            [&](std::ostream& out) { out << csv; });
         summary.maxDensityError = std::max(summary.maxDensityError, report.state.maxDensityError);
         summary.maxEscaped = std::max(summary.maxEscaped, report.state.escaped);
         densityErrorSum += report.state.averageDensityError;
@@ -83,10 +88,12 @@ RunSummary runScene(const Scene& scene, const RunOptions& options) {
     }
     summary.frames = options.frames;
     summary.simulatedSeconds = simulation.time();
-    summary.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     summary.averageDensityError = densityErrorSum / (options.frames + 1);
     summary.particleStepsPerSecond =
-        solverMs > 0.0 ? double(summary.particles) * double(summary.substeps) / (solverMs * 1e-3) : 0.0;
+        solverMs > 0.0 ? double(summary.particles) * double(summary.substeps) / (solverMs * 1e-3)
+                       : 0.0;
     writeSummary(options.outputDirectory / "summary.json", scene, summary);
     return summary;
 }

@@ -1,10 +1,9 @@
 #include "pbf/scene.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "json_reader.hpp"
@@ -12,8 +11,8 @@
 namespace pbf {
 namespace {
 
-using nlohmann::json;
 using detail::JsonReader;
+using nlohmann::json;
 
 // Particles along one axis of a block: lattice cells of edge `spacing` that fit.
 // Capped so that absurd sizes stay representable and are refused later.
@@ -34,7 +33,8 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
             try {
                 index = std::stoul(part);
             } catch (const std::exception&) {
-                throw SceneError(file + ": --set " + o.path + ": " + walked + " is an array; expected an index");
+                throw SceneError(file + ": --set " + o.path + ": " + walked +
+                                 " is an array; expected an index");
             }
             if (index >= node->size())
                 throw SceneError(file + ": --set " + o.path + ": index " + part + " out of range");
@@ -111,8 +111,9 @@ void readFluidBlocks(JsonReader& root, Scene& scene) {
         const Vec3 e = block.box.extent();
         if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
             latticeCount(e.z, spacing) < 1)
-            r.fail("max", "the block is empty: every side must be at least one particle spacing (2 r = " +
-                              std::to_string(spacing) + " m) long");
+            r.fail("max",
+                   "the block is empty: every side must be at least one particle spacing (2 r = " +
+                       std::to_string(spacing) + " m) long");
         for (std::size_t k = 0; k < scene.fluidBlocks.size(); ++k)
             if (overlaps(block.box, scene.fluidBlocks[k].box))
                 r.fail("min", "overlaps fluid_blocks[" + std::to_string(k) + "]");
@@ -130,7 +131,8 @@ std::string defaultName(const std::string& source) {
 SceneOverride parseOverride(std::string_view assignment) {
     const std::size_t eq = assignment.find('=');
     if (eq == std::string_view::npos || eq == 0)
-        throw SceneError("--set " + std::string(assignment) + ": expected FIELD=VALUE, e.g. solver.iterations=8");
+        throw SceneError("--set " + std::string(assignment) +
+                         ": expected FIELD=VALUE, e.g. solver.iterations=8");
     return {std::string(assignment.substr(0, eq)), std::string(assignment.substr(eq + 1))};
 }
 
@@ -138,7 +140,8 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides) {
     json document;
     try {
-        document = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+        document =
+            json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
     } catch (const json::exception& e) {
         throw SceneError(sourceName + ": not valid JSON: " + e.what());
     }
@@ -154,7 +157,8 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     SimulationParams& sim = scene.simulation;
     {
         JsonReader domain = root.object("domain");
-        if (!root.has("domain")) root.fail("domain", "missing (required): {\"min\": [...], \"max\": [...]}");
+        if (!root.has("domain"))
+            root.fail("domain", "missing (required): {\"min\": [...], \"max\": [...]}");
         sim.domain = readBox(domain);
         domain.finish();
     }
@@ -193,8 +197,9 @@ Scene loadScene(const std::filesystem::path& file, const std::vector<SceneOverri
     const std::string name = file.string();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec))
-        throw SceneError(name + ": cannot open scene file (" +
-                         (std::filesystem::exists(file, ec) ? "not a regular file" : "no such file") + ")");
+        throw SceneError(
+            name + ": cannot open scene file (" +
+            (std::filesystem::exists(file, ec) ? "not a regular file" : "no such file") + ")");
     // Scenes are small; anything over 64 MiB is not a scene.
     if (std::filesystem::file_size(file, ec) > (std::uintmax_t{64} << 20))
         throw SceneError(name + ": scene file larger than 64 MiB");
@@ -213,8 +218,9 @@ std::size_t countParticles(const Scene& scene) {
         total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
                  double(latticeCount(e.z, spacing));
     }
-    if (total > 4e9) throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(total) +
-                                      " particles exceed the 32-bit particle index");
+    if (total > 4e9)
+        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(total) +
+                         " particles exceed the 32-bit particle index");
     return static_cast<std::size_t>(total);
 }
 
@@ -250,10 +256,12 @@ std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
 }
 
 void checkMemory(const Scene& scene, std::size_t availableBytes) {
-    const double needed = double(countParticles(scene)) * double(estimatedBytesPerParticle(scene.simulation));
+    const double needed =
+        double(countParticles(scene)) * double(estimatedBytesPerParticle(scene.simulation));
     if (needed > double(availableBytes))
         throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(countParticles(scene)) +
-                         " particles need about " + std::to_string(static_cast<long long>(needed / (1 << 20))) +
+                         " particles need about " +
+                         std::to_string(static_cast<long long>(needed / (1 << 20))) +
                          " MiB, more than the " + std::to_string(availableBytes >> 20) +
                          " MiB of memory available; use larger particles or smaller blocks");
 }

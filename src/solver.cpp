@@ -117,7 +117,8 @@ void Solver::step(ParticleStore& p, float dt) {
 
     auto t = Clock::now();
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::predictPositions(params_.gravity, dt, box, p.position, p.velocity, p.predicted, b, e);
+        stages::predictPositions(params_.gravity, dt, box, p.position, p.velocity, p.predicted, b,
+                                 e);
     });
     times_.predict = millisecondsSince(t);
 
@@ -151,8 +152,8 @@ void Solver::step(ParticleStore& p, float dt) {
     });
     if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeVorticityAndViscosity(c, fluid.viscosity, search_, p.predicted, p.velocity,
-                                                 density, vorticity_, delta_, b, e);
+            stages::computeVorticityAndViscosity(c, fluid.viscosity, search_, p.predicted,
+                                                 p.velocity, density, vorticity_, delta_, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::applyVorticityAndViscosity(c, fluid.vorticity, dt, search_, p.predicted,
@@ -169,7 +170,8 @@ void Solver::step(ParticleStore& p, float dt) {
 
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
-           sizeof(float) * (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
+           sizeof(float) *
+               (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
 }
 
 float maxSpeed(const ParticleStore& p) {
@@ -177,7 +179,8 @@ float maxSpeed(const ParticleStore& p) {
     float maxSquared = 0.0f;
     // max is order-independent, so this reduction is deterministic.
 #pragma omp parallel for reduction(max : maxSquared) num_threads(threadCount()) schedule(static)
-    for (std::ptrdiff_t i = 0; i < n; ++i) maxSquared = std::max(maxSquared, lengthSquared(p.velocity.get(i)));
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+        maxSquared = std::max(maxSquared, lengthSquared(p.velocity.get(i)));
     return std::sqrt(maxSquared);
 }
 

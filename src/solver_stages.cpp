@@ -20,7 +20,8 @@ float scorrPower(float ratio, int n) {
 
 // Adds the walls of the domain box within reach of x: their kernel sum and
 // the gradient of that sum with respect to x (pointing into the walls).
-void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum, Vec3& gradient) {
+void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
+                         Vec3& gradient) {
     const WallTable& w = c.wall;
     auto add = [&](float distance, float Vec3::*axis, float outward) {
         if (!(distance < w.range)) return;
@@ -28,7 +29,8 @@ void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelS
         const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
         const float f = t - float(k);
         kernelSum += w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
-        gradient.*axis += outward * (w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]));
+        gradient.*axis +=
+            outward * (w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]));
     };
     add(x.x - c.domain.min.x, &Vec3::x, -1.0f);
     add(c.domain.max.x - x.x, &Vec3::x, 1.0f);
@@ -202,7 +204,8 @@ void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon
                 const Vec3 rij = xi - predicted.get(j);
                 const float r = length(rij);
                 const float volumeJ = c.particleMass / density[j];
-                eta += c.spiky.gradient(rij, r) * ((length(vorticity.get(j)) - magnitudeI) * volumeJ);
+                eta +=
+                    c.spiky.gradient(rij, r) * ((length(vorticity.get(j)) - magnitudeI) * volumeJ);
             }
             const float etaLength = length(eta);
             if (etaLength > 1e-20f) {
@@ -217,7 +220,8 @@ void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon
 void respondToWalls(const Aabb& box, float restitution, float friction,
                     const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
                     std::size_t end) {
-    const float tolerance = 1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
+    const float tolerance =
+        1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 x = predicted.get(i);
         Vec3 v = velocity.get(i);
@@ -234,8 +238,8 @@ void respondToWalls(const Aabb& box, float restitution, float friction,
             float* t2 = axis == 2 ? &v.y : &v.z;
             const float tangential = std::sqrt(*t1 * *t1 + *t2 * *t2);
             if (tangential > 0.0f) {
-                const float keep =
-                    std::max(0.0f, 1.0f - friction * (1.0f + restitution) * normalSpeed / tangential);
+                const float keep = std::max(
+                    0.0f, 1.0f - friction * (1.0f + restitution) * normalSpeed / tangential);
                 *t1 *= keep;
                 *t2 *= keep;
             }

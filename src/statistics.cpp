@@ -31,25 +31,27 @@ struct Partial {
 
 }  // namespace
 
-StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants& c, const Aabb& domain) {
-    const Partial total = detail::parallelSum<Partial>(p.size(), [&](std::size_t begin, std::size_t end) {
-        Partial s;
-        for (std::size_t i = begin; i < end; ++i) {
-            const double error = std::max(0.0, double(p.density[i]) / c.restDensity - 1.0);
-            s.densityError += error;
-            s.maxDensityError = std::max(s.maxDensityError, error);
-            const Vec3 v = p.velocity.get(i);
-            const double speed2 = double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z;
-            s.speedSquaredSum += speed2;
-            s.maxSpeedSquared = std::max(s.maxSpeedSquared, speed2);
-            s.px += v.x;
-            s.py += v.y;
-            s.pz += v.z;
-            // contains() is false for NaN coordinates, so NaN counts as escaped.
-            if (!domain.contains(p.position.get(i))) ++s.escaped;
-        }
-        return s;
-    });
+StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants& c,
+                                  const Aabb& domain) {
+    const Partial total =
+        detail::parallelSum<Partial>(p.size(), [&](std::size_t begin, std::size_t end) {
+            Partial s;
+            for (std::size_t i = begin; i < end; ++i) {
+                const double error = std::max(0.0, double(p.density[i]) / c.restDensity - 1.0);
+                s.densityError += error;
+                s.maxDensityError = std::max(s.maxDensityError, error);
+                const Vec3 v = p.velocity.get(i);
+                const double speed2 = double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z;
+                s.speedSquaredSum += speed2;
+                s.maxSpeedSquared = std::max(s.maxSpeedSquared, speed2);
+                s.px += v.x;
+                s.py += v.y;
+                s.pz += v.z;
+                // contains() is false for NaN coordinates, so NaN counts as escaped.
+                if (!domain.contains(p.position.get(i))) ++s.escaped;
+            }
+            return s;
+        });
     StateStatistics stats;
     stats.particles = p.size();
     if (p.size() == 0) return stats;

@@ -12,9 +12,9 @@ namespace {
 
 pbf::ParticleStore runSteps(int threads, int steps) {
     pbf::setThreadCount(threads);
-    const pbf::Scene scene = pbf::loadScene(pbf::test::scenePath("dam_break.json"),
-                                            {pbf::parseOverride("particle_radius=0.02"),
-                                             pbf::parseOverride("fluid.vorticity=0.05")});
+    const pbf::Scene scene = pbf::loadScene(
+        pbf::test::scenePath("dam_break.json"),
+        {pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05")});
     pbf::Simulation sim(scene);
     for (int k = 0; k < steps; ++k) sim.solver().step(sim.particles(), 1.0f / 240.0f);
     return sim.particles();
@@ -38,9 +38,10 @@ TEST(Determinism, OneAndTwoThreadsGiveIdenticalBits) {
     EXPECT_TRUE(bitEqual(one.velocity.z, two.velocity.z));
     EXPECT_TRUE(bitEqual(one.density, two.density));
     // The run moved: the test compares a real flow, not a frozen state.
-    EXPECT_NE(one.position.x, pbf::createParticles(pbf::loadScene(pbf::test::scenePath("dam_break.json"),
-                                                                  {pbf::parseOverride("particle_radius=0.02")}))
-                                  .position.x);
+    EXPECT_NE(one.position.x,
+              pbf::createParticles(pbf::loadScene(pbf::test::scenePath("dam_break.json"),
+                                                  {pbf::parseOverride("particle_radius=0.02")}))
+                  .position.x);
 }
 
 }  // namespace

@@ -1,4 +1,6 @@
 // Files: PLY round trip, atomic writes, the outputs of a run.
+#include "pbf/io.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -6,7 +8,6 @@
 #include <fstream>
 #include <sstream>
 
-#include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
 #include "test_util.hpp"
@@ -16,7 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path freshDirectory(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("pbf_test_" + name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("pbf_test_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
@@ -60,10 +62,12 @@ TEST(Ply, TruncatedAndForeignFilesAreRejected) {
     pbf::writeParticlesPly(dir / "f.ply", p);
     fs::resize_file(dir / "f.ply", fs::file_size(dir / "f.ply") - 5);
     EXPECT_THROW(pbf::readParticlesPly(dir / "f.ply"), pbf::IoError);
-    std::ofstream(dir / "text.ply") << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n";
+    std::ofstream(dir / "text.ply")
+        << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n";
     EXPECT_THROW(pbf::readParticlesPly(dir / "text.ply"), pbf::IoError);
-    std::ofstream(dir / "huge.ply") << "ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\n"
-                                       "property float x\nproperty float y\nproperty float z\nend_header\n";
+    std::ofstream(dir / "huge.ply")
+        << "ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\n"
+           "property float x\nproperty float y\nproperty float z\nend_header\n";
     EXPECT_THROW(pbf::readParticlesPly(dir / "huge.ply"), pbf::IoError);
     EXPECT_THROW(pbf::readParticlesPly(dir / "missing.ply"), pbf::IoError);
     fs::remove_all(dir);
@@ -111,7 +115,9 @@ TEST(Run, WritesFramesStatsAndSummary) {
     std::string header, line;
     std::getline(csv, header);
     EXPECT_EQ(header.rfind("frame,time,particles,substeps,iterations,step_ms,avg_density_error,"
-                           "max_density_error,kinetic_energy,escaped", 0), 0u);
+                           "max_density_error,kinetic_energy,escaped",
+                           0),
+              0u);
     int rows = 0;
     while (std::getline(csv, line)) ++rows;
     EXPECT_EQ(rows, 4);

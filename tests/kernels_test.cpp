@@ -1,11 +1,11 @@
 // Kernel properties: normalisation, gradient vs finite differences, symmetry.
+#include "pbf/kernels.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include "pbf/kernels.hpp"
 
 namespace {
 
@@ -26,7 +26,8 @@ class KernelTest : public ::testing::TestWithParam<float> {};
 
 TEST_P(KernelTest, Poly6IntegratesToOne) {
     const pbf::Poly6Kernel w = pbf::Poly6Kernel::withRadius(GetParam());
-    const double integral = radialIntegral([&](double r) { return w.value(float(r * r)); }, GetParam());
+    const double integral =
+        radialIntegral([&](double r) { return w.value(float(r * r)); }, GetParam());
     EXPECT_NEAR(integral, 1.0, 1e-4);
 }
 

@@ -1,11 +1,12 @@
 // The grid neighbour search finds exactly the pairs a brute-force search finds.
+#include "pbf/neighbor_search.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <vector>
 
-#include "pbf/neighbor_search.hpp"
 #include "pbf/particles.hpp"
 
 namespace {
@@ -17,7 +18,8 @@ std::vector<std::uint32_t> bruteForce(const pbf::Float3Array& x, std::size_t i, 
     std::vector<std::uint32_t> result;
     for (std::size_t j = 0; j < x.size(); ++j) {
         const float dx = x.x[i] - x.x[j], dy = x.y[i] - x.y[j], dz = x.z[i] - x.z[j];
-        if (j != i && dx * dx + dy * dy + dz * dz < h * h) result.push_back(static_cast<std::uint32_t>(j));
+        if (j != i && dx * dx + dy * dy + dz * dz < h * h)
+            result.push_back(static_cast<std::uint32_t>(j));
     }
     return result;
 }
@@ -32,7 +34,8 @@ void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float
     p.reorder(perm);
     // Sorted by cell: cell indices never decrease along the array.
     for (std::size_t i = 1; i < p.size(); ++i)
-        ASSERT_LE(search.cellIndexOf(p.predicted.get(i - 1)), search.cellIndexOf(p.predicted.get(i)));
+        ASSERT_LE(search.cellIndexOf(p.predicted.get(i - 1)),
+                  search.cellIndexOf(p.predicted.get(i)));
     search.buildNeighborLists(p.predicted);
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -70,7 +73,8 @@ TEST(NeighborSearch, PointsOnCellBorders) {
     std::vector<Vec3> points;
     for (int i = 0; i <= 10; ++i)
         for (int j = 0; j <= 10; ++j)
-            for (int k = 0; k <= 6; ++k) points.push_back({float(i) * 0.05f, float(j) * 0.05f, float(k) * 0.05f});
+            for (int k = 0; k <= 6; ++k)
+                points.push_back({float(i) * 0.05f, float(j) * 0.05f, float(k) * 0.05f});
     expectMatchesBruteForce(points, kUnitBox, h);
 }
 
@@ -86,7 +90,8 @@ TEST(NeighborSearch, PointsOutsideTheGrid) {
 }
 
 TEST(NeighborSearch, RefusesGridsBeyondTheCellLimit) {
-    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {100, 100, 100}}, 0.001f, 1u << 20), std::invalid_argument);
+    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {100, 100, 100}}, 0.001f, 1u << 20),
+                 std::invalid_argument);
 }
 
 }  // namespace

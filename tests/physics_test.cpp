@@ -34,12 +34,14 @@ TEST(Physics, FreeFallMatchesClosedForm) {
         // the step count (1e-4 relative at 100 steps).
         const double rounding = 1e-6 * steps;
         const double discreteY = 2.0 * t + g.y * dt * dt * steps * (steps + 1) / 2.0;
-        EXPECT_NEAR(p.position.y[0], discreteY, rounding * std::fabs(discreteY) + 1e-5) << steps << " steps";
+        EXPECT_NEAR(p.position.y[0], discreteY, rounding * std::fabs(discreteY) + 1e-5)
+            << steps << " steps";
         EXPECT_NEAR(p.position.x[0], 1.0 * t, rounding + 1e-5);
         EXPECT_NEAR(p.velocity.y[0], 2.0 + g.y * t, rounding * 10.0 + 1e-4);
         const double closedY = 2.0 * t + 0.5 * g.y * t * t;
         // The discretisation error is g t dt / 2.
-        EXPECT_NEAR(p.position.y[0], closedY, 0.5 * std::fabs(g.y) * t * dt * 1.01 + rounding * 3.0 + 1e-4);
+        EXPECT_NEAR(p.position.y[0], closedY,
+                    0.5 * std::fabs(g.y) * t * dt * 1.01 + rounding * 3.0 + 1e-4);
     }
 }
 
@@ -80,7 +82,8 @@ Settled settleTank(double seconds) {
     s.end = sim.report().state;
     s.finalHeight = 2.0 * meanHeight(sim.particles());
     std::vector<float> speeds;
-    for (std::size_t i = 0; i < sim.particles().size(); ++i) speeds.push_back(pbf::length(sim.particles().velocity.get(i)));
+    for (std::size_t i = 0; i < sim.particles().size(); ++i)
+        speeds.push_back(pbf::length(sim.particles().velocity.get(i)));
     std::sort(speeds.begin(), speeds.end());
     s.finalMedianSpeed = speeds[speeds.size() / 2];
     s.finalSpeed99 = speeds[speeds.size() * 99 / 100];
@@ -121,14 +124,19 @@ TEST(Physics, IsolatedBlobConservesLinearMomentum) {
         p.position.set(i, p.position.get(i) * 0.85f);
     }
     pbf::Solver solver(scene.simulation);
-    const pbf::StateStatistics before = pbf::computeStatistics(p, solver.constants(), scene.simulation.domain);
+    const pbf::StateStatistics before =
+        pbf::computeStatistics(p, solver.constants(), scene.simulation.domain);
     double scale = 0.0;  // sum of |m v|, the size of the rounding error
-    for (std::size_t i = 0; i < p.size(); ++i) scale += solver.constants().particleMass * pbf::length(p.velocity.get(i));
+    for (std::size_t i = 0; i < p.size(); ++i)
+        scale += solver.constants().particleMass * pbf::length(p.velocity.get(i));
     solver.step(p, 1.0f / 240.0f);
     // The compressed blob really activates the density constraint.
-    EXPECT_GT(pbf::computeStatistics(p, solver.constants(), scene.simulation.domain).maxDensityError, 0.2);
+    EXPECT_GT(
+        pbf::computeStatistics(p, solver.constants(), scene.simulation.domain).maxDensityError,
+        0.2);
     for (int k = 1; k < 50; ++k) solver.step(p, 1.0f / 240.0f);
-    const pbf::StateStatistics after = pbf::computeStatistics(p, solver.constants(), scene.simulation.domain);
+    const pbf::StateStatistics after =
+        pbf::computeStatistics(p, solver.constants(), scene.simulation.domain);
     for (int axis = 0; axis < 3; ++axis)
         EXPECT_NEAR(after.momentum[axis], before.momentum[axis], 1e-4 * scale) << "axis " << axis;
 }
@@ -147,7 +155,8 @@ TEST(Physics, RestLatticeHasRestDensity) {
     const float centre = 0.4f;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Vec3 x = p.position.get(i);
-        if (std::fabs(x.x - centre) < 0.05f && std::fabs(x.y - centre) < 0.05f && std::fabs(x.z - centre) < 0.05f) {
+        if (std::fabs(x.x - centre) < 0.05f && std::fabs(x.y - centre) < 0.05f &&
+            std::fabs(x.z - centre) < 0.05f) {
             EXPECT_NEAR(p.density[i], 1000.0f, 1.0f);
         }
     }

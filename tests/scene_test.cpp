@@ -1,8 +1,9 @@
 // Scene loading: shipped scenes load; every kind of bad input is refused with
 // an error that names the file and the field.
+#include "pbf/scene.hpp"
+
 #include <gtest/gtest.h>
 
-#include "pbf/scene.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -20,12 +21,14 @@ void expectError(const std::string& json, std::initializer_list<std::string> fra
     } catch (const SceneError& e) {
         const std::string message = e.what();
         EXPECT_EQ(message.rfind("bad.json: ", 0), 0u) << message;
-        for (const std::string& f : fragments) EXPECT_NE(message.find(f), std::string::npos) << message;
+        for (const std::string& f : fragments)
+            EXPECT_NE(message.find(f), std::string::npos) << message;
     }
 }
 
 TEST(Scene, ShippedScenesLoad) {
-    for (const char* name : {"dam_break.json", "cube_drop.json", "cube_drop_fine.json", "resting.json"}) {
+    for (const char* name :
+         {"dam_break.json", "cube_drop.json", "cube_drop_fine.json", "resting.json"}) {
         const pbf::Scene scene = pbf::loadScene(pbf::test::scenePath(name));
         EXPECT_FALSE(scene.fluidBlocks.empty()) << name;
         EXPECT_GT(pbf::countParticles(scene), 1000u) << name;
@@ -45,67 +48,90 @@ TEST(Scene, DefaultsAndParticleCount) {
     EXPECT_EQ(p.id[124], 124u);
 }
 
-TEST(Scene, MalformedJson) { expectError("{\"domain\": ", {"not valid JSON"}); }
-TEST(Scene, NotAnObject) { expectError("[1, 2]", {"document", "expected an object"}); }
-TEST(Scene, UnknownTopLevelKey) { expectError(smallSceneJson(R"("gravty": [0, -9.8, 0])"), {"gravty", "unknown key"}); }
+TEST(Scene, MalformedJson) {
+    expectError("{\"domain\": ", {"not valid JSON"});
+}
+TEST(Scene, NotAnObject) {
+    expectError("[1, 2]", {"document", "expected an object"});
+}
+TEST(Scene, UnknownTopLevelKey) {
+    expectError(smallSceneJson(R"("gravty": [0, -9.8, 0])"), {"gravty", "unknown key"});
+}
 TEST(Scene, UnknownNestedKey) {
-    expectError(smallSceneJson(R"("solver": {"iteration": 3})"), {"solver.iteration", "unknown key"});
+    expectError(smallSceneJson(R"("solver": {"iteration": 3})"),
+                {"solver.iteration", "unknown key"});
 }
 TEST(Scene, WrongType) {
-    expectError(smallSceneJson(R"("solver": {"iterations": "many"})"), {"solver.iterations", "expected an integer"});
+    expectError(smallSceneJson(R"("solver": {"iterations": "many"})"),
+                {"solver.iterations", "expected an integer"});
     expectError(smallSceneJson(R"("gravity": [0, -9.8])"), {"gravity", "3 numbers"});
-    expectError(smallSceneJson(R"("output": {"particles": 1})"), {"output.particles", "true or false"});
+    expectError(smallSceneJson(R"("output": {"particles": 1})"),
+                {"output.particles", "true or false"});
 }
 TEST(Scene, OutOfRange) {
-    expectError(smallSceneJson(R"("solver": {"iterations": 0})"), {"solver.iterations", "[1, 100]", "got 0"});
+    expectError(smallSceneJson(R"("solver": {"iterations": 0})"),
+                {"solver.iterations", "[1, 100]", "got 0"});
     expectError(smallSceneJson(R"("fluid": {"viscosity": -1})"), {"fluid.viscosity"});
     expectError(smallSceneJson(R"("solver": {"cfl": 2})"), {"solver.cfl"});
-    expectError(smallSceneJson(R"("solver": {"time_step": "sometimes"})"), {"solver.time_step", "adaptive"});
+    expectError(smallSceneJson(R"("solver": {"time_step": "sometimes"})"),
+                {"solver.time_step", "adaptive"});
     expectError(smallSceneJson(R"("output": {"fps": 0})"), {"output.fps"});
 }
 TEST(Scene, MissingRequiredFields) {
     expectError(R"({"particle_radius": 0.02, "fluid_blocks": []})", {"domain", "missing"});
-    expectError(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "fluid_blocks": []})", {"particle_radius", "missing"});
-    expectError(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02})", {"fluid_blocks", "at least one"});
+    expectError(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "fluid_blocks": []})",
+                {"particle_radius", "missing"});
+    expectError(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02})",
+                {"fluid_blocks", "at least one"});
 }
 TEST(Scene, InvertedDomain) {
-    expectError(R"({"domain": {"min": [0,0,0], "max": [1,-1,1]}, "particle_radius": 0.02, "fluid_blocks": []})",
-                {"domain.max", "greater than min"});
+    expectError(
+        R"({"domain": {"min": [0,0,0], "max": [1,-1,1]}, "particle_radius": 0.02, "fluid_blocks": []})",
+        {"domain.max", "greater than min"});
 }
 TEST(Scene, OverlappingBlocks) {
-    const std::string json = R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
+    const std::string json =
+        R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
       "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}, {"min": [0.4,0.4,0.4], "max": [0.8,0.8,0.8]}]})";
     expectError(json, {"fluid_blocks[1]", "overlaps fluid_blocks[0]"});
 }
 TEST(Scene, EmptyBlock) {
-    const std::string json = R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
+    const std::string json =
+        R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
       "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.01,0.5]}]})";
     expectError(json, {"fluid_blocks[0]", "empty"});
 }
 TEST(Scene, BlockOutsideDomain) {
-    const std::string json = R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
+    const std::string json =
+        R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.02,
       "fluid_blocks": [{"min": [0.5,0.5,0.5], "max": [1.5,0.8,0.8]}]})";
     expectError(json, {"fluid_blocks[0]", "inside the domain"});
 }
 TEST(Scene, NonsenseParticleRadius) {
-    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "-1.0"), {"particle_radius"});
-    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e999"), {"not valid JSON", "1e999"});
-    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e30"), {"particle_radius"});
+    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "-1.0"),
+                {"particle_radius"});
+    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e999"),
+                {"not valid JSON", "1e999"});
+    expectError(smallSceneJson().replace(smallSceneJson().find("0.02"), 4, "1e30"),
+                {"particle_radius"});
 }
 
 TEST(Scene, OverridesApplyAndAreValidated) {
-    const pbf::Scene scene = parseScene(smallSceneJson(), "small.json",
-                                        {pbf::parseOverride("solver.iterations=7"),
-                                         pbf::parseOverride("gravity=[0,-1,0]"),
-                                         pbf::parseOverride("output.directory=elsewhere"),
-                                         pbf::parseOverride("fluid_blocks.0.velocity=[1,0,0]")});
+    const pbf::Scene scene = parseScene(
+        smallSceneJson(), "small.json",
+        {pbf::parseOverride("solver.iterations=7"), pbf::parseOverride("gravity=[0,-1,0]"),
+         pbf::parseOverride("output.directory=elsewhere"),
+         pbf::parseOverride("fluid_blocks.0.velocity=[1,0,0]")});
     EXPECT_EQ(scene.simulation.solver.iterations, 7);
     EXPECT_FLOAT_EQ(scene.simulation.gravity.y, -1.0f);
     EXPECT_EQ(scene.output.directory, "elsewhere");
     EXPECT_FLOAT_EQ(scene.fluidBlocks[0].velocity.x, 1.0f);
-    expectError(smallSceneJson(), {"solver.iterations", "got 0"}, {pbf::parseOverride("solver.iterations=0")});
-    expectError(smallSceneJson(), {"solver.itrations", "unknown key"}, {pbf::parseOverride("solver.itrations=3")});
-    expectError(smallSceneJson(), {"index 3 out of range"}, {pbf::parseOverride("fluid_blocks.3.velocity=[1,0,0]")});
+    expectError(smallSceneJson(), {"solver.iterations", "got 0"},
+                {pbf::parseOverride("solver.iterations=0")});
+    expectError(smallSceneJson(), {"solver.itrations", "unknown key"},
+                {pbf::parseOverride("solver.itrations=3")});
+    expectError(smallSceneJson(), {"index 3 out of range"},
+                {pbf::parseOverride("fluid_blocks.3.velocity=[1,0,0]")});
     EXPECT_THROW(pbf::parseOverride("no-equals-sign"), SceneError);
 }
 
@@ -114,13 +140,15 @@ TEST(Scene, MissingFile) {
         pbf::loadScene("/nonexistent/dir/scene.json");
         FAIL();
     } catch (const SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/scene.json: cannot open scene file"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/scene.json: cannot open scene file"),
+                  std::string::npos);
     }
 }
 
 TEST(Scene, SizesThatDoNotFitInMemoryAreRefused) {
     // 10^12 particles: refused before anything is allocated.
-    const std::string json = R"({"domain": {"min": [0,0,0], "max": [100,100,100]}, "particle_radius": 0.0005,
+    const std::string json =
+        R"({"domain": {"min": [0,0,0], "max": [100,100,100]}, "particle_radius": 0.0005,
       "fluid_blocks": [{"min": [0,0,0], "max": [100,100,100]}]})";
     try {
         const pbf::Scene scene = parseScene(json, "huge.json");

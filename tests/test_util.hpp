@@ -7,7 +7,9 @@
 
 namespace pbf::test {
 
-inline std::string scenePath(const std::string& name) { return std::string(PBF_SCENES_DIR) + "/" + name; }
+inline std::string scenePath(const std::string& name) {
+    return std::string(PBF_SCENES_DIR) + "/" + name;
+}
 
 // A small valid scene as JSON text, with `extra` spliced into the top-level object.
 inline std::string smallSceneJson(const std::string& extra = "") {

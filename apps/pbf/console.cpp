@@ -11,7 +11,10 @@
 namespace pbf::cli {
 
 ProgressBar::ProgressBar(std::string label, int total, bool enabled)
-    : label_(std::move(label)), total_(total), enabled_(enabled), terminal_(::isatty(STDERR_FILENO) != 0) {}
+    : label_(std::move(label)),
+      total_(total),
+      enabled_(enabled),
+      terminal_(::isatty(STDERR_FILENO) != 0) {}
 
 void ProgressBar::update(int done, const std::string& detail) {
     if (!enabled_ || total_ <= 0) return;
@@ -34,7 +37,9 @@ void ProgressBar::finish() {
     if (enabled_ && terminal_) fmt::print(stderr, "\n");
 }
 
-void printError(const std::string& message) { fmt::print(stderr, "pbf: error: {}\n", message); }
+void printError(const std::string& message) {
+    fmt::print(stderr, "pbf: error: {}\n", message);
+}
 
 std::size_t availableMemoryBytes() {
     std::ifstream meminfo("/proc/meminfo");

@@ -9,12 +9,12 @@ namespace pbf::cli {
 // A one-line progress bar on stderr; redrawn in place on a terminal, printed
 // every 10 % otherwise (logs, CI).
 class ProgressBar {
-public:
+  public:
     ProgressBar(std::string label, int total, bool enabled);
     void update(int done, const std::string& detail);
     void finish();
 
-private:
+  private:
     std::string label_;
     int total_;
     bool enabled_;

@@ -1,6 +1,5 @@
 // `pbf`: the command-line program. Subcommands live in *_command.cpp.
 #include <CLI/CLI.hpp>
-
 #include <exception>
 
 #include "commands.hpp"

@@ -17,7 +17,7 @@
 namespace pbf {
 
 class IoError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

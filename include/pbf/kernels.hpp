@@ -26,7 +26,8 @@ struct Poly6Kernel {
 
     static Poly6Kernel withRadius(float radius) {
         const double hd = radius;
-        const double c = 315.0 / (64.0 * std::numbers::pi * hd * hd * hd * hd * hd * hd * hd * hd * hd);
+        const double c =
+            315.0 / (64.0 * std::numbers::pi * hd * hd * hd * hd * hd * hd * hd * hd * hd);
         return {radius, radius * radius, static_cast<float>(c)};
     }
     // Takes the squared distance: the density loop never needs a square root.

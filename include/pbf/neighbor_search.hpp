@@ -30,7 +30,7 @@ namespace pbf {
 inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
 
 class NeighborSearch {
-public:
+  public:
     // Grid over `domain` with cells of edge `radius`. Throws
     // std::invalid_argument if the grid would need more than `maxCells` cells.
     NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells = kMaxGridCells);
@@ -54,7 +54,7 @@ public:
     // Bytes held by the grid and neighbour lists (for the benchmark's report).
     std::size_t memoryBytes() const;
 
-private:
+  private:
     // Cell range [first, last) of the 9 x-rows of the 27-cell stencil around `cell`.
     template <class Visit>
     void forEachStencilRange(std::uint32_t cx, std::uint32_t cy, std::uint32_t cz,
@@ -67,13 +67,13 @@ private:
     std::uint32_t nx_, ny_, nz_;
     std::size_t cellCount_;
 
-    std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
-    std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
-    std::vector<std::uint32_t> cellCursor_;      // counting-sort scratch
-    std::vector<std::uint32_t> sortedCell_;      // cell of each particle, sorted order
-    std::vector<std::uint32_t> counts_;          // neighbours per particle
-    std::vector<std::size_t> offsets_;           // CSR offsets, size n + 1
-    std::vector<std::uint32_t> indices_;         // CSR neighbour indices
+    std::vector<std::uint32_t> cellOfParticle_;           // cell of each particle, pre-sort order
+    std::vector<std::uint32_t> cellStart_;                // size cellCount + 1
+    std::vector<std::uint32_t> cellCursor_;               // counting-sort scratch
+    std::vector<std::uint32_t> sortedCell_;               // cell of each particle, sorted order
+    std::vector<std::uint32_t> counts_;                   // neighbours per particle
+    std::vector<std::size_t> offsets_;                    // CSR offsets, size n + 1
+    std::vector<std::uint32_t> indices_;                  // CSR neighbour indices
     std::vector<std::vector<std::uint32_t>> blockLists_;  // per-block lists before the CSR copy
 };
 

@@ -27,9 +27,9 @@ struct FluidParams {
 struct ArtificialPressureParams {
     // s_corr = -k (W(r) / W(dq h))^n, in units of the constraint's lambda
     // scale (paper eq. 13-14: k = 0.1, n = 4, dq = 0.1 .. 0.3 h).
-    float k = 0.1f;     // [0, 1]
-    int n = 4;          // [1, 8]
-    float dq = 0.2f;    // fraction of h, (0, 1)
+    float k = 0.1f;   // [0, 1]
+    int n = 4;        // [1, 8]
+    float dq = 0.2f;  // fraction of h, (0, 1)
 };
 
 enum class TimeStepMode { Adaptive, Fixed };
@@ -46,14 +46,14 @@ struct SolverParams {
     TimeStepMode timeStepMode = TimeStepMode::Adaptive;
     // Adaptive mode: substep dt = cfl * particle spacing / max speed, within
     // [frame / maxSubsteps, maxTimeStep].
-    float cfl = 0.4f;              // (0, 1]
+    float cfl = 0.4f;  // (0, 1]
     // The cap matters for slow flows: PBF's residual velocity noise at rest
     // scales with g dt (4 Jacobi iterations remove most, not all, of each
     // step's gravity push), so a resting tank settles at 1/240 s, not 1/60 s.
     float maxTimeStep = 1.0f / 240.0f;  // seconds, (0, 1]
-    int maxSubsteps = 200;         // per frame, [1, 10000]
+    int maxSubsteps = 200;              // per frame, [1, 10000]
     // Fixed mode: exactly this many substeps per frame.
-    int fixedSubsteps = 2;         // [1, 10000]
+    int fixedSubsteps = 2;  // [1, 10000]
 
     // Domain-wall response: normal velocity is reflected with `restitution`,
     // tangential velocity is scaled by (1 - friction) on contact.
@@ -63,7 +63,7 @@ struct SolverParams {
 
 struct SimulationParams {
     Aabb domain{{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};  // metres; particles never leave it
-    Vec3 gravity{0.0f, -9.81f, 0.0f};                      // m/s^2
+    Vec3 gravity{0.0f, -9.81f, 0.0f};                     // m/s^2
     float particleRadius = 0.01f;  // metres; spacing of the initial lattice is 2 r
     FluidParams fluid;
     SolverParams solver;

@@ -48,12 +48,12 @@ struct Float3Array {
 };
 
 class ParticleStore {
-public:
+  public:
     // Persistent state, permuted together by reorder().
-    Float3Array position;   // x, metres
-    Float3Array predicted;  // x*, metres (solver working positions)
-    Float3Array velocity;   // v, metres per second
-    std::vector<float> density;  // last density estimate, kg/m^3
+    Float3Array position;           // x, metres
+    Float3Array predicted;          // x*, metres (solver working positions)
+    Float3Array velocity;           // v, metres per second
+    std::vector<float> density;     // last density estimate, kg/m^3
     std::vector<std::uint32_t> id;  // stable identity, 0-based
 
     std::size_t size() const { return id.size(); }
@@ -66,7 +66,7 @@ public:
     // Indices of the particles sorted by id (for writing files in a stable order).
     std::vector<std::uint32_t> orderById() const;
 
-private:
+  private:
     std::uint32_t nextId_ = 0;
     std::vector<float> scratchFloat_;
     std::vector<std::uint32_t> scratchIndex_;

@@ -33,9 +33,9 @@ struct RunSummary {
     double wallSeconds = 0.0;
     long long substeps = 0;
     double particleStepsPerSecond = 0.0;
-    double maxDensityError = 0.0;     // over all frames
-    double averageDensityError = 0.0; // mean over frames of the per-frame average
-    std::size_t maxEscaped = 0;       // over all frames; 0 in a correct run
+    double maxDensityError = 0.0;      // over all frames
+    double averageDensityError = 0.0;  // mean over frames of the per-frame average
+    std::size_t maxEscaped = 0;        // over all frames; 0 in a correct run
 };
 
 // Runs the scene; throws IoError if an output cannot be written.

@@ -19,7 +19,7 @@
 namespace pbf {
 
 class SceneError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -30,15 +30,15 @@ struct FluidBlock {
 };
 
 struct OutputParams {
-    float fps = 30.0f;          // frames per simulated second, (0, 10000]
-    int frames = 90;            // frames to simulate, [1, 1e6]
-    std::string directory;      // default "out/<scene name>"
-    bool writeParticles = true; // binary PLY per frame
+    float fps = 30.0f;           // frames per simulated second, (0, 10000]
+    int frames = 90;             // frames to simulate, [1, 1e6]
+    std::string directory;       // default "out/<scene name>"
+    bool writeParticles = true;  // binary PLY per frame
 };
 
 struct Scene {
-    std::string name;          // from the file name unless given
-    std::string source;        // file the scene came from (for messages)
+    std::string name;    // from the file name unless given
+    std::string source;  // file the scene came from (for messages)
     SimulationParams simulation;
     std::vector<FluidBlock> fluidBlocks;
     OutputParams output;
@@ -52,7 +52,8 @@ struct SceneOverride {
 };
 SceneOverride parseOverride(std::string_view assignment);  // throws SceneError
 
-Scene loadScene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides = {});
+Scene loadScene(const std::filesystem::path& file,
+                const std::vector<SceneOverride>& overrides = {});
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides = {});
 

@@ -30,17 +30,17 @@ namespace pbf {
 // particles of Akinci et al. 2012, here for the box in closed form).
 struct WallTable {
     static constexpr int kSamples = 64;
-    float range = 0.0f;         // distances beyond this see no wall (h - r)
-    float inverseStep = 0.0f;   // samples per metre
+    float range = 0.0f;                    // distances beyond this see no wall (h - r)
+    float inverseStep = 0.0f;              // samples per metre
     float kernelSum[kSamples + 1] = {};    // sum over wall lattice of W, 1/m^3
     float gradientSum[kSamples + 1] = {};  // |sum of spiky grad W|, 1/m^4, points into the wall
 };
 
 // SI constants derived once from SimulationParams.
 struct SolverConstants {
-    float h = 0.0f;              // kernel radius, m
-    float particleMass = 0.0f;   // kg, so that a full rest lattice has density rho0
-    float restDensity = 0.0f;    // kg/m^3
+    float h = 0.0f;             // kernel radius, m
+    float particleMass = 0.0f;  // kg, so that a full rest lattice has density rho0
+    float restDensity = 0.0f;   // kg/m^3
     float inverseRestDensity = 0.0f;
     Poly6Kernel poly6;
     SpikyKernel spiky;
@@ -50,10 +50,10 @@ struct SolverConstants {
     float relaxationEpsilon = 0.0f;  // relaxation * restGradientSum
     // s_corr(r) = scorrScale * (W(r) / W(dq h))^n, scorrScale = -k / restGradientSum.
     float scorrScale = 0.0f;
-    float scorrInverseWdq = 0.0f;    // 1 / W(dq h)
+    float scorrInverseWdq = 0.0f;  // 1 / W(dq h)
     int scorrExponent = 4;
-    Aabb domain;                     // walls of the box
-    Aabb collisionBox;               // domain shrunk by the particle radius
+    Aabb domain;        // walls of the box
+    Aabb collisionBox;  // domain shrunk by the particle radius
     WallTable wall;
 
     static SolverConstants from(const SimulationParams& params);
@@ -69,7 +69,7 @@ struct StageTimes {
 };
 
 class Solver {
-public:
+  public:
     explicit Solver(const SimulationParams& params);
 
     const SimulationParams& params() const { return params_; }
@@ -86,7 +86,7 @@ public:
     // Solver-owned memory in bytes (scratch arrays, grid, neighbour lists).
     std::size_t memoryBytes() const;
 
-private:
+  private:
     void ensureCapacity(std::size_t n);
 
     SimulationParams params_;

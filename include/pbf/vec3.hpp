@@ -32,21 +32,39 @@ struct Vec3 {
         z *= s;
         return *this;
     }
-    PBF_HD constexpr float operator[](int axis) const { return axis == 0 ? x : (axis == 1 ? y : z); }
+    PBF_HD constexpr float operator[](int axis) const {
+        return axis == 0 ? x : (axis == 1 ? y : z);
+    }
     friend constexpr bool operator==(const Vec3&, const Vec3&) = default;
 };
 
-PBF_HD constexpr Vec3 operator+(Vec3 a, const Vec3& b) { return a += b; }
-PBF_HD constexpr Vec3 operator-(Vec3 a, const Vec3& b) { return a -= b; }
-PBF_HD constexpr Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
-PBF_HD constexpr Vec3 operator*(Vec3 a, float s) { return a *= s; }
-PBF_HD constexpr Vec3 operator*(float s, Vec3 a) { return a *= s; }
-PBF_HD constexpr float dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+PBF_HD constexpr Vec3 operator+(Vec3 a, const Vec3& b) {
+    return a += b;
+}
+PBF_HD constexpr Vec3 operator-(Vec3 a, const Vec3& b) {
+    return a -= b;
+}
+PBF_HD constexpr Vec3 operator-(const Vec3& a) {
+    return {-a.x, -a.y, -a.z};
+}
+PBF_HD constexpr Vec3 operator*(Vec3 a, float s) {
+    return a *= s;
+}
+PBF_HD constexpr Vec3 operator*(float s, Vec3 a) {
+    return a *= s;
+}
+PBF_HD constexpr float dot(const Vec3& a, const Vec3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 PBF_HD constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-PBF_HD constexpr float lengthSquared(const Vec3& a) { return dot(a, a); }
-PBF_HD inline float length(const Vec3& a) { return std::sqrt(dot(a, a)); }
+PBF_HD constexpr float lengthSquared(const Vec3& a) {
+    return dot(a, a);
+}
+PBF_HD inline float length(const Vec3& a) {
+    return std::sqrt(dot(a, a));
+}
 
 // Axis-aligned box [min, max].
 struct Aabb {
