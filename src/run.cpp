@@ -14,16 +14,16 @@ namespace pbf {
 
 std::string statsCsvHeader() {
     return "frame,time,particles,substeps,iterations,step_ms,avg_density_error,max_density_error,"
-           "kinetic_energy,escaped,max_speed,neighbor_ms,solve_ms,post_ms";
+           "kinetic_energy,escaped,inside_solid,max_speed,neighbor_ms,solve_ms,post_ms";
 }
 
 std::string statsCsvRow(const FrameReport& r) {
     const double perStep = r.substeps > 0 ? 1.0 / r.substeps : 0.0;
     return fmt::format(
-        "{},{:.6f},{},{},{},{:.4f},{:.6e},{:.6e},{:.6e},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
+        "{},{:.6f},{},{},{},{:.4f},{:.6e},{:.6e},{:.6e},{},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
         r.time, r.state.particles, r.substeps, r.iterations, r.stepMs, r.state.averageDensityError,
-        r.state.maxDensityError, r.state.kineticEnergy, r.state.escaped, r.state.maxSpeed,
-        r.stageMs.neighborSearch * perStep, r.stageMs.solve * perStep,
+        r.state.maxDensityError, r.state.kineticEnergy, r.state.escaped, r.state.insideSolid,
+        r.state.maxSpeed, r.stageMs.neighborSearch * perStep, r.stageMs.solve * perStep,
         (r.stageMs.predict + r.stageMs.postProcess) * perStep);
 }
 
@@ -47,12 +47,15 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const R
     j["max_density_error"] = s.maxDensityError;
     j["average_density_error"] = s.averageDensityError;
     j["max_escaped"] = s.maxEscaped;
+    j["max_inside_solid"] = s.maxInsideSolid;
+    j["skipped_in_solids"] = s.skippedInSolids;
     writeFileAtomically(file, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
 }
 
 }  // namespace
 
 RunSummary runScene(const Scene& scene, const RunOptions& options) {
+    RunSummary summary;
     std::error_code ec;
     std::filesystem::create_directories(options.outputDirectory, ec);
     if (ec || !std::filesystem::is_directory(options.outputDirectory))
@@ -60,9 +63,10 @@ RunSummary runScene(const Scene& scene, const RunOptions& options) {
                       (ec ? " (" + ec.message() + ")" : ""));
 
     Simulation simulation(scene);
+    summary.skippedInSolids = simulation.skippedParticles();
+    if (options.onStart) options.onStart(simulation);
     const auto start = std::chrono::steady_clock::now();
     std::string csv = statsCsvHeader() + "\n";
-    RunSummary summary;
     double densityErrorSum = 0.0;
     auto record = [&](const FrameReport& report) {
         if (options.writeParticles)
@@ -73,6 +77,7 @@ RunSummary runScene(const Scene& scene, const RunOptions& options) {
                             [&](std::ostream& out) { out << csv; });
         summary.maxDensityError = std::max(summary.maxDensityError, report.state.maxDensityError);
         summary.maxEscaped = std::max(summary.maxEscaped, report.state.escaped);
+        summary.maxInsideSolid = std::max(summary.maxInsideSolid, report.state.insideSolid);
         densityErrorSum += report.state.averageDensityError;
         summary.substeps += report.substeps;
         summary.particles = report.state.particles;

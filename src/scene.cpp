@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "json_reader.hpp"
+#include "pbf/emitter.hpp"
 
 namespace pbf {
 namespace {
@@ -98,7 +99,8 @@ bool overlaps(const Aabb& a, const Aabb& b) {
 
 void readFluidBlocks(JsonReader& root, Scene& scene) {
     const json& blocks = root.array("fluid_blocks");
-    if (blocks.empty()) root.fail("fluid_blocks", "at least one fluid block is required");
+    if (blocks.empty() && scene.emitters.empty())
+        root.fail("fluid_blocks", "at least one fluid block (or an emitter) is required");
     const SimulationParams& sim = scene.simulation;
     const float spacing = sim.particleSpacing();
     for (std::size_t i = 0; i < blocks.size(); ++i) {
@@ -121,12 +123,121 @@ void readFluidBlocks(JsonReader& root, Scene& scene) {
     }
 }
 
+Vec3 readScale(JsonReader& r) {
+    if (!r.has("scale")) return {1, 1, 1};
+    // A number (uniform) or [sx, sy, sz].
+    try {
+        const float uniform = r.number("scale", 1.0f);
+        return {uniform, uniform, uniform};
+    } catch (const SceneError&) {
+        return r.vec3("scale", {1, 1, 1});
+    }
+}
+
+float positive(JsonReader& r, const std::string& key, float fallback, bool required = true) {
+    if (required && !r.has(key)) r.fail(key, "missing (required)");
+    const float value = r.number(key, fallback);
+    if (!(value > 0.0f)) r.fail(key, "must be positive, got " + std::to_string(value));
+    return value;
+}
+
+Vec3 direction(JsonReader& r, const std::string& key, const Vec3& fallback) {
+    const Vec3 v = r.vec3(key, fallback);
+    if (!(length(v) > 0.0f)) r.fail(key, "must be a non-zero vector");
+    return v * (1.0f / length(v));
+}
+
+void readSolids(JsonReader& root, Scene& scene) {
+    const json& solids = root.array("solids");
+    const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+        SolidDescription d;
+        d.field = "solids[" + std::to_string(i) + "]";
+        JsonReader r(solids[i], d.field, scene.source);
+        const std::string type = r.string("type", "");
+        if (type == "box") {
+            d.kind = SolidDescription::Kind::Box;
+            d.box = readBox(r);
+        } else if (type == "sphere") {
+            d.kind = SolidDescription::Kind::Sphere;
+            d.center = r.requiredVec3("center");
+            d.radius = positive(r, "radius", 0.0f);
+        } else if (type == "plane") {
+            d.kind = SolidDescription::Kind::Plane;
+            d.point = r.requiredVec3("point");
+            d.normal = direction(r, "normal", {0, 1, 0});
+        } else if (type == "cylinder") {
+            d.kind = SolidDescription::Kind::Cylinder;
+            d.base = r.requiredVec3("base");
+            d.axis = direction(r, "axis", {0, 1, 0});
+            d.radius = positive(r, "radius", 0.0f);
+            d.height = positive(r, "height", 0.0f);
+        } else if (type == "mesh") {
+            d.kind = SolidDescription::Kind::Mesh;
+            const std::string file = r.string("file", "");
+            if (file.empty()) r.fail("file", "missing (required): path of an OBJ file");
+            d.file = std::filesystem::path(file).is_absolute() ? file : (folder / file).string();
+            d.transform.scale = readScale(r);
+            if (!(d.transform.scale.x > 0 && d.transform.scale.y > 0 && d.transform.scale.z > 0))
+                r.fail("scale", "must be positive");
+            d.transform.rotationDegrees = r.vec3("rotation", {});
+            d.transform.translation = r.vec3("translation", {});
+        } else {
+            r.fail("type", "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" + type + "\"");
+        }
+        r.finish();
+        scene.solids.push_back(d);
+    }
+}
+
+void readEmitters(JsonReader& root, Scene& scene) {
+    const json& emitters = root.array("emitters");
+    for (std::size_t i = 0; i < emitters.size(); ++i) {
+        EmitterDescription e;
+        e.field = "emitters[" + std::to_string(i) + "]";
+        JsonReader r(emitters[i], e.field, scene.source);
+        e.position = r.requiredVec3("position");
+        if (!scene.simulation.domain.contains(e.position)) r.fail("position", "must lie inside the domain");
+        e.direction = direction(r, "direction", e.direction);
+        e.radius = positive(r, "radius", 0.0f);
+        if (e.radius < scene.simulation.particleRadius)
+            r.fail("radius", "must be at least the particle radius");
+        const Vec3 extent = scene.simulation.domain.extent();
+        if (e.radius > std::max(extent.x, std::max(extent.y, extent.z)))
+            r.fail("radius", "must not exceed the domain's size");
+        e.speed = positive(r, "speed", 0.0f);
+        if (e.speed > 100.0f) r.fail("speed", "must be at most 100 m/s");
+        e.start = r.number("start", 0.0f);
+        if (e.start < 0.0f) r.fail("start", "must be >= 0 s");
+        e.end = r.number("end", e.end);
+        if (!(e.end > e.start)) r.fail("end", "must be later than start");
+        const int budget = r.integer("max_particles", 0);
+        if (budget < 0) r.fail("max_particles", "must be >= 0 (0: no budget)");
+        e.maxParticles = static_cast<std::size_t>(budget);
+        r.finish();
+        scene.emitters.push_back(e);
+    }
+}
+
 std::string defaultName(const std::string& source) {
     const std::string stem = std::filesystem::path(source).stem().string();
     return stem.empty() ? "scene" : stem;
 }
 
 }  // namespace
+
+std::size_t emitterDiscSize(const Scene& scene, const EmitterDescription& e) {
+    return emitterDisc(e, scene.simulation.particleRadius).size();
+}
+
+std::size_t emitterBudget(const Scene& scene, const EmitterDescription& e) {
+    const double runEnd = scene.output.frames / double(scene.output.fps);
+    const double duration = std::max(0.0, std::min<double>(e.end, runEnd) - e.start);
+    const double rate = double(emitterDiscSize(scene, e)) * e.speed / scene.simulation.particleSpacing();
+    const double count = std::min(rate * duration + double(emitterDiscSize(scene, e)), 1e12);
+    const auto byTime = static_cast<std::size_t>(count);
+    return e.maxParticles > 0 ? std::min(byTime, e.maxParticles) : byTime;
+}
 
 SceneOverride parseOverride(std::string_view assignment) {
     const std::size_t eq = assignment.find('=');
@@ -188,7 +299,9 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.writeParticles = o.boolean("particles", out.writeParticles);
         o.finish();
     }
-    readFluidBlocks(root, scene);
+    readSolids(root, scene);
+    readEmitters(root, scene);
+    if (root.has("fluid_blocks") || scene.emitters.empty()) readFluidBlocks(root, scene);
     root.finish();
     return scene;
 }
@@ -224,12 +337,40 @@ std::size_t countParticles(const Scene& scene) {
     return static_cast<std::size_t>(total);
 }
 
-ParticleStore createParticles(const Scene& scene) {
+std::shared_ptr<const SolidSet> buildSolids(const Scene& scene) {
+    auto set = std::make_shared<SolidSet>();
+    const SimulationParams& sim = scene.simulation;
+    for (const SolidDescription& d : scene.solids) {
+        using Kind = SolidDescription::Kind;
+        switch (d.kind) {
+            case Kind::Box: set->add(makeBoxSolid(d.box)); break;
+            case Kind::Sphere: set->add(makeSphereSolid(d.center, d.radius)); break;
+            case Kind::Plane: set->add(makePlaneSolid(d.point, d.normal, sim.domain)); break;
+            case Kind::Cylinder: set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height)); break;
+            case Kind::Mesh: {
+                MeshSolidOptions options;
+                options.voxelSize = 0.5f * sim.particleRadius;
+                options.bandWidth = sim.kernelRadius() + 2.0f * sim.particleRadius;
+                options.shellThickness = sim.particleRadius;
+                try {
+                    set->add(loadMeshSolid(d.file, d.transform, options));
+                } catch (const SolidError& e) {
+                    throw SceneError(scene.source + ": " + d.field + ".file: " + e.what());
+                }
+                break;
+            }
+        }
+    }
+    return set;
+}
+
+ParticleStore createParticles(const Scene& scene, const SolidSet* solids, std::size_t* skipped) {
     const SimulationParams& sim = scene.simulation;
     const float r = sim.particleRadius;
     const float spacing = sim.particleSpacing();
     ParticleStore store;
     store.reserve(countParticles(scene));
+    std::size_t rejected = 0;
     for (const FluidBlock& b : scene.fluidBlocks) {
         const Vec3 e = b.box.extent();
         const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
@@ -239,9 +380,17 @@ ParticleStore createParticles(const Scene& scene) {
                 for (long long i = 0; i < nx; ++i) {
                     const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
                                                     r + float(k) * spacing};
+                    Vec3 normal;
+                    // A particle spawned inside (or touching) a solid would be
+                    // shot out of it: leave the site empty instead.
+                    if (solids && solids->signedDistance(x, r, normal) < r) {
+                        ++rejected;
+                        continue;
+                    }
                     store.add(x, b.velocity, sim.fluid.restDensity);
                 }
     }
+    if (skipped) *skipped = rejected;
     return store;
 }
 

@@ -6,7 +6,12 @@
 namespace pbf {
 
 Simulation::Simulation(const Scene& scene)
-    : scene_(scene), particles_(createParticles(scene)), solver_(scene.simulation) {}
+    : scene_(scene),
+      solids_(buildSolids(scene)),
+      particles_(createParticles(scene, solids_.get(), &skipped_)),
+      solver_(scene.simulation, solids_) {
+    for (const EmitterDescription& e : scene.emitters) emitters_.emplace_back(e, scene.simulation);
+}
 
 double Simulation::adaptiveSubstep(double remaining) const {
     const SolverParams& s = scene_.simulation.solver;
@@ -29,6 +34,8 @@ FrameReport Simulation::advanceFrame() {
         double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
                                                           : adaptiveSubstep(remaining);
         if (dt > remaining * (1.0 - 1e-9)) dt = remaining;  // last step ends the frame exactly
+        const double stepStart = time_ + (frameDt - remaining);
+        for (Emitter& emitter : emitters_) emitter.emit(stepStart, dt, particles_, solids_.get());
         solver_.step(particles_, static_cast<float>(dt));
         const StageTimes& t = solver_.lastStageTimes();
         report.stageMs.predict += t.predict;
@@ -56,7 +63,8 @@ FrameReport Simulation::report() const {
     r.frame = frame_;
     r.time = time_;
     r.iterations = scene_.simulation.solver.iterations;
-    r.state = computeStatistics(particles_, solver_.constants(), scene_.simulation.domain);
+    r.state = computeStatistics(particles_, solver_.constants(), scene_.simulation.domain, solids_.get(),
+                                scene_.simulation.particleRadius);
     return r;
 }
 

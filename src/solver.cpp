@@ -88,9 +88,10 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     return c;
 }
 
-Solver::Solver(const SimulationParams& params)
+Solver::Solver(const SimulationParams& params, std::shared_ptr<const SolidSet> solids)
     : params_(params),
       constants_(SolverConstants::from(params)),
+      solids_(solids && !solids->empty() ? std::move(solids) : nullptr),
       search_(params.domain, params.kernelRadius()) {}
 
 void Solver::setParams(const SimulationParams& params) {
@@ -120,6 +121,13 @@ void Solver::step(ParticleStore& p, float dt) {
         stages::predictPositions(params_.gravity, dt, box, p.position, p.velocity, p.predicted, b,
                                  e);
     });
+    const SolidSet* solids = solids_.get();
+    const float radius = params_.particleRadius;
+    if (solids) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::resolveSolidCollisions(c, *solids, radius, p.position, p.predicted, b, e);
+        });
+    }
     times_.predict = millisecondsSince(t);
 
     t = Clock::now();
@@ -133,13 +141,14 @@ void Solver::step(ParticleStore& p, float dt) {
     float* lambda = lambda_.data();
     for (int iteration = 0; iteration < params_.solver.iterations; ++iteration) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeDensityAndLambda(c, search_, p.predicted, density, lambda, b, e);
+            stages::computeDensityAndLambda(c, solids, search_, p.predicted, density, lambda, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computePositionCorrection(c, search_, p.predicted, lambda, delta_, b, e);
+            stages::computePositionCorrection(c, solids, search_, p.predicted, lambda, delta_, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::applyPositionCorrection(box, delta_, p.predicted, b, e);
+            if (solids) stages::resolveSolidCollisions(c, *solids, radius, p.position, p.predicted, b, e);
         });
     }
     times_.solve = millisecondsSince(t);
@@ -162,6 +171,7 @@ void Solver::step(ParticleStore& p, float dt) {
     }
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
         stages::respondToWalls(box, s.restitution, s.friction, p.predicted, p.velocity, b, e);
+        if (solids) stages::respondToSolids(*solids, radius, s.restitution, s.friction, p.predicted, p.velocity, b, e);
         stages::commitPositions(p.predicted, p.position, b, e);
     });
     times_.postProcess = millisecondsSince(t);

@@ -40,6 +40,29 @@ void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelS
     add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
 }
 
+// Linear interpolation in the flat-wall table at distance s.
+void sampleWallTable(const WallTable& w, float distance, float& kernel, float& gradient) {
+    const float t = std::max(distance, 0.0f) * w.inverseStep;
+    const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
+    const float f = t - float(k);
+    kernel = w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
+    gradient = w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]);
+}
+
+// The nearest solid within reach adds the flat-wall density at its signed
+// distance, and its gradient along the surface normal (into the solid).
+void addSolidContribution(const SolverConstants& c, const SolidSet* solids, const Vec3& x,
+                          float& kernelSum, Vec3& gradient) {
+    if (!solids) return;
+    Vec3 normal;
+    const float distance = solids->signedDistance(x, c.wall.range, normal);
+    if (!(distance < c.wall.range)) return;
+    float kernel = 0.0f, slope = 0.0f;
+    sampleWallTable(c.wall, distance, kernel, slope);
+    kernelSum += kernel;
+    gradient -= normal * slope;
+}
+
 }  // namespace
 
 void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
@@ -57,7 +80,8 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
 // vectorised order of additions is fixed by the code and the neighbour count
 // alone, so results stay bit-identical across thread counts.
 
-void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& search,
+void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                             const NeighborSearch& search,
                              const Float3Array& predicted, float* density, float* lambda,
                              std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
@@ -96,6 +120,7 @@ void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& sea
         Vec3 gradI{gx, gy, gz};
         Vec3 wallGradient{};
         addWallContribution(c, {xi, yi, zi}, kernelSum, wallGradient);
+        addSolidContribution(c, solids, {xi, yi, zi}, kernelSum, wallGradient);
         gradI += wallGradient * gradScale;
         const float rho = c.particleMass * kernelSum;
         density[i] = rho;
@@ -104,7 +129,8 @@ void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& sea
     }
 }
 
-void computePositionCorrection(const SolverConstants& c, const NeighborSearch& search,
+void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
+                               const NeighborSearch& search,
                                const Float3Array& predicted, const float* lambda,
                                Float3Array& delta, std::size_t begin, std::size_t end) {
     const float scale = c.particleMass * c.inverseRestDensity;
@@ -147,6 +173,7 @@ void computePositionCorrection(const SolverConstants& c, const NeighborSearch& s
         float unusedKernelSum = 0.0f;
         Vec3 wallGradient{};
         addWallContribution(c, {xi, yi, zi}, unusedKernelSum, wallGradient);
+        addSolidContribution(c, solids, {xi, yi, zi}, unusedKernelSum, wallGradient);
         dp += wallGradient * lambdaI;
         delta.set(i, dp * scale);
     }
@@ -244,6 +271,64 @@ void respondToWalls(const Aabb& box, float restitution, float friction,
                 *t2 *= keep;
             }
         }
+        velocity.set(i, v);
+    }
+}
+
+void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
+                            const Float3Array& position, Float3Array& predicted, std::size_t begin,
+                            std::size_t end) {
+    const float reach = c.h;
+    const float hitDistance = 0.05f * radius;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 start = position.get(i);
+        Vec3 x = predicted.get(i);
+        Vec3 normal;
+        const Vec3 move = x - start;
+        const float moveLength = length(move);
+        // Sweep: sphere-trace from the start; the distance field guarantees no
+        // surface closer than d, so each step of length d is safe.
+        float startDistance = solids.signedDistance(start, moveLength + reach, normal);
+        if (startDistance < moveLength && moveLength > 0.0f) {
+            const Vec3 direction = move * (1.0f / moveLength);
+            float travelled = std::max(startDistance, 0.0f);
+            bool hit = startDistance <= hitDistance;
+            for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
+                const float d = solids.signedDistance(start + direction * travelled, moveLength + reach, normal);
+                if (d <= hitDistance) {
+                    hit = true;
+                    break;
+                }
+                travelled += d;
+            }
+            if (hit) x = start + direction * std::min(travelled, moveLength);
+        }
+        // Push out to one radius (twice: a corner between two solids).
+        for (int pass = 0; pass < 2; ++pass) {
+            const float d = solids.signedDistance(x, reach, normal);
+            if (!(d < radius)) break;
+            x += normal * (radius - d);
+        }
+        predicted.set(i, clampToBox(c.collisionBox, x));
+    }
+}
+
+void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
+                     const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                     std::size_t end) {
+    const float contact = 1.05f * radius;
+    for (std::size_t i = begin; i < end; ++i) {
+        Vec3 normal;
+        if (!(solids.signedDistance(predicted.get(i), contact, normal) < contact)) continue;
+        Vec3 v = velocity.get(i);
+        const float vn = dot(v, normal);
+        if (vn >= 0.0f) continue;  // separating
+        const Vec3 tangential = v - normal * vn;
+        const float tangentialSpeed = length(tangential);
+        const float keep = tangentialSpeed > 0.0f
+                               ? std::max(0.0f, 1.0f - friction * (1.0f + restitution) * -vn / tangentialSpeed)
+                               : 0.0f;
+        v = tangential * keep - normal * (restitution * vn);
         velocity.set(i, v);
     }
 }

@@ -21,18 +21,34 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
 // Paper eq. 1-2 and 11: density rho_i (poly6) and the Lagrange multiplier
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), with C_i = max(rho_i/rho0 - 1, 0)
 // so that particles at a free surface (missing neighbours) are never pulled in.
-void computeDensityAndLambda(const SolverConstants& c, const NeighborSearch& search,
+void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                             const NeighborSearch& search,
                              const Float3Array& predicted, float* density, float* lambda,
                              std::size_t begin, std::size_t end);
 
 // Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij.
-void computePositionCorrection(const SolverConstants& c, const NeighborSearch& search,
+void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
+                               const NeighborSearch& search,
                                const Float3Array& predicted, const float* lambda,
                                Float3Array& delta, std::size_t begin, std::size_t end);
 
 // x* += dp, then projection into the collision box (Alg. 1 l. 16-18).
 void applyPositionCorrection(const Aabb& box, const Float3Array& delta, Float3Array& predicted,
                              std::size_t begin, std::size_t end);
+
+// Keeps x* at least one particle radius outside every solid. The move from x
+// (outside, the start of the step) to x* is swept by sphere tracing the
+// distance field: if it enters a solid, x* stops at the surface, so no step
+// can carry a particle through a thin wall. Then x* is pushed out along the
+// surface normal to distance r.
+void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
+                            const Float3Array& position, Float3Array& predicted, std::size_t begin,
+                            std::size_t end);
+
+// Restitution and friction against solids, as respondToWalls for the box.
+void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
+                     const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                     std::size_t end);
 
 // Alg. 1 l. 21: v = (x* - x) / dt.
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,

@@ -15,6 +15,7 @@ struct Partial {
     double maxSpeedSquared = 0.0;
     double px = 0.0, py = 0.0, pz = 0.0;
     std::size_t escaped = 0;
+    std::size_t insideSolid = 0;
 
     Partial& operator+=(const Partial& o) {
         densityError += o.densityError;
@@ -25,6 +26,7 @@ struct Partial {
         py += o.py;
         pz += o.pz;
         escaped += o.escaped;
+        insideSolid += o.insideSolid;
         return *this;
     }
 };
@@ -32,7 +34,7 @@ struct Partial {
 }  // namespace
 
 StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants& c,
-                                  const Aabb& domain) {
+                                  const Aabb& domain, const SolidSet* solids, float particleRadius) {
     const Partial total =
         detail::parallelSum<Partial>(p.size(), [&](std::size_t begin, std::size_t end) {
             Partial s;
@@ -49,6 +51,9 @@ StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants&
                 s.pz += v.z;
                 // contains() is false for NaN coordinates, so NaN counts as escaped.
                 if (!domain.contains(p.position.get(i))) ++s.escaped;
+            Vec3 normal;
+            if (solids && solids->signedDistance(p.position.get(i), particleRadius, normal) < -0.5f * particleRadius)
+                ++s.insideSolid;
             }
             return s;
         });
@@ -62,6 +67,8 @@ StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants&
     stats.momentum = Vec3{float(total.px * c.particleMass), float(total.py * c.particleMass),
                           float(total.pz * c.particleMass)};
     stats.escaped = total.escaped;
+    stats.insideSolid = total.insideSolid;
+    stats.insideSolid = total.insideSolid;
     return stats;
 }
 

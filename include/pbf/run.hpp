@@ -24,6 +24,8 @@ struct RunOptions {
     bool writeParticles = true;
     // Called after every frame (progress display); may be empty.
     std::function<void(const FrameReport&)> onFrame;
+    // Called once the scene is built (solids loaded, blocks filled); may be empty.
+    std::function<void(const Simulation&)> onStart;
 };
 
 struct RunSummary {
@@ -36,6 +38,8 @@ struct RunSummary {
     double maxDensityError = 0.0;      // over all frames
     double averageDensityError = 0.0;  // mean over frames of the per-frame average
     std::size_t maxEscaped = 0;        // over all frames; 0 in a correct run
+    std::size_t maxInsideSolid = 0;   // over all frames; 0 in a correct run
+    std::size_t skippedInSolids = 0;  // fluid-block sites left empty because a solid was there
 };
 
 // Runs the scene; throws IoError if an output cannot be written.

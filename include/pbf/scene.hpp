@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -15,6 +16,7 @@
 
 #include "pbf/params.hpp"
 #include "pbf/particles.hpp"
+#include "pbf/solids.hpp"
 
 namespace pbf {
 
@@ -29,6 +31,36 @@ struct FluidBlock {
     Vec3 velocity;  // initial velocity, m/s
 };
 
+// A static solid object (docs/scenes.md, "solids").
+struct SolidDescription {
+    enum class Kind { Box, Sphere, Plane, Cylinder, Mesh };
+    Kind kind = Kind::Box;
+    Aabb box;                      // box
+    Vec3 center;                   // sphere
+    float radius = 0.0f;           // sphere, cylinder
+    Vec3 point, normal{0, 1, 0};   // plane
+    Vec3 base, axis{0, 1, 0};      // cylinder
+    float height = 0.0f;           // cylinder
+    std::string file;              // mesh: path resolved against the scene file's folder
+    Transform transform;           // mesh
+    std::string field;             // "solids[2]", for messages
+};
+
+// A nozzle pouring water: discs of particles (lattice spacing 2 r, within
+// `radius` of the axis) leave `position` along `direction` at `speed`, one
+// disc per 2 r travelled, between `start` and `end` seconds or until
+// `maxParticles` have been emitted.
+struct EmitterDescription {
+    Vec3 position;
+    Vec3 direction{0, -1, 0};
+    float radius = 0.05f;      // m
+    float speed = 1.0f;        // m/s
+    float start = 0.0f;        // s
+    float end = 1e30f;         // s
+    std::size_t maxParticles = 0;  // 0: no budget, only the time window
+    std::string field;
+};
+
 struct OutputParams {
     float fps = 30.0f;           // frames per simulated second, (0, 10000]
     int frames = 90;             // frames to simulate, [1, 1e6]
@@ -41,6 +73,8 @@ struct Scene {
     std::string source;  // file the scene came from (for messages)
     SimulationParams simulation;
     std::vector<FluidBlock> fluidBlocks;
+    std::vector<SolidDescription> solids;
+    std::vector<EmitterDescription> emitters;
     OutputParams output;
 };
 
@@ -57,10 +91,20 @@ Scene loadScene(const std::filesystem::path& file,
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides = {});
 
-// Number of particles the scene's fluid blocks create.
+// Number of particles the scene's fluid blocks create (before solids remove any)
+// plus every emitter's budget.
 std::size_t countParticles(const Scene& scene);
-// Fills the fluid blocks with particles (lattice of spacing 2 r, ids in block order).
-ParticleStore createParticles(const Scene& scene);
+// Builds the scene's solids (loads meshes); throws SceneError naming the file and field.
+std::shared_ptr<const SolidSet> buildSolids(const Scene& scene);
+// Fills the fluid blocks with particles (lattice of spacing 2 r, ids in block
+// order), leaving out lattice sites closer than one radius to a solid; their
+// number goes to `skipped` if given.
+ParticleStore createParticles(const Scene& scene, const SolidSet* solids = nullptr,
+                              std::size_t* skipped = nullptr);
+
+// Particles in one emitted disc, and the most an emitter emits in the run.
+std::size_t emitterDiscSize(const Scene& scene, const EmitterDescription& emitter);
+std::size_t emitterBudget(const Scene& scene, const EmitterDescription& emitter);
 
 // Refuses scenes whose particles would not fit in `availableBytes` of memory
 // (the bytes per particle the solver needs times the count); throws SceneError.

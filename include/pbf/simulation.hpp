@@ -3,7 +3,10 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
+#include <vector>
 
+#include "pbf/emitter.hpp"
 #include "pbf/particles.hpp"
 #include "pbf/scene.hpp"
 #include "pbf/solver.hpp"
@@ -23,6 +26,8 @@ struct FrameReport {
 
 class Simulation {
   public:
+    // Builds the solids (loading meshes) and fills the fluid blocks; throws
+    // SceneError for a broken mesh.
     explicit Simulation(const Scene& scene);
 
     const Scene& scene() const { return scene_; }
@@ -33,6 +38,10 @@ class Simulation {
     int frame() const { return frame_; }
     double time() const { return time_; }
     double frameDuration() const { return 1.0 / scene_.output.fps; }
+    // Lattice sites of the fluid blocks left empty because a solid was there.
+    std::size_t skippedParticles() const { return skipped_; }
+    const std::vector<Emitter>& emitters() const { return emitters_; }
+    const SolidSet* solids() const { return solids_.get(); }
 
     // Simulates one output frame (1 / fps seconds) and reports on it.
     FrameReport advanceFrame();
@@ -47,8 +56,11 @@ class Simulation {
 
   private:
     Scene scene_;
+    std::shared_ptr<const SolidSet> solids_;
+    std::size_t skipped_ = 0;
     ParticleStore particles_;
     Solver solver_;
+    std::vector<Emitter> emitters_;
     int frame_ = 0;
     double time_ = 0.0;
 };

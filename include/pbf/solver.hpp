@@ -13,12 +13,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "pbf/kernels.hpp"
 #include "pbf/neighbor_search.hpp"
 #include "pbf/params.hpp"
 #include "pbf/particles.hpp"
+#include "pbf/solids.hpp"
 
 namespace pbf {
 
@@ -61,7 +63,7 @@ struct SolverConstants {
 
 // Wall-clock milliseconds spent per stage in the last step.
 struct StageTimes {
-    double predict = 0.0;
+    double predict = 0.0;         // includes the swept collision with solids
     double neighborSearch = 0.0;  // sort, reorder, neighbour lists
     double solve = 0.0;           // all density iterations
     double postProcess = 0.0;     // velocity update, vorticity, XSPH, wall response
@@ -70,7 +72,8 @@ struct StageTimes {
 
 class Solver {
   public:
-    explicit Solver(const SimulationParams& params);
+    // `solids` (may be null) are static obstacles the particles collide with.
+    explicit Solver(const SimulationParams& params, std::shared_ptr<const SolidSet> solids = nullptr);
 
     const SimulationParams& params() const { return params_; }
     const SolverConstants& constants() const { return constants_; }
@@ -83,6 +86,7 @@ class Solver {
 
     const StageTimes& lastStageTimes() const { return times_; }
     const NeighborSearch& neighborSearch() const { return search_; }
+    const SolidSet* solids() const { return solids_.get(); }
     // Solver-owned memory in bytes (scratch arrays, grid, neighbour lists).
     std::size_t memoryBytes() const;
 
@@ -91,6 +95,7 @@ class Solver {
 
     SimulationParams params_;
     SolverConstants constants_;
+    std::shared_ptr<const SolidSet> solids_;
     NeighborSearch search_;
     StageTimes times_;
 

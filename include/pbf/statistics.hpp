@@ -19,10 +19,13 @@ struct StateStatistics {
     Vec3 momentum;               // kg m/s
     // Particles outside the domain box (or with non-finite positions); must be 0.
     std::size_t escaped = 0;
+    // Particles deeper than half a radius inside a solid; must be 0.
+    std::size_t insideSolid = 0;
 };
 
 // Deterministic: partial sums are combined in a fixed order.
 StateStatistics computeStatistics(const ParticleStore& particles, const SolverConstants& constants,
-                                  const Aabb& domain);
+                                  const Aabb& domain, const SolidSet* solids = nullptr,
+                                  float particleRadius = 0.0f);
 
 }  // namespace pbf

@@ -1,0 +1,43 @@
+// Emitters: nozzles that pour water into a running simulation.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "pbf/particles.hpp"
+#include "pbf/scene.hpp"
+#include "pbf/solids.hpp"
+
+namespace pbf {
+
+// Offsets of the particles of one emitted disc: a square lattice of spacing
+// 2 r in the plane across `direction`, within `radius` of the axis.
+std::vector<Vec3> emitterDisc(const EmitterDescription& emitter, float particleRadius);
+
+class Emitter {
+public:
+    Emitter(const EmitterDescription& description, const SimulationParams& params);
+
+    // Emits the discs due in the substep [time, time + dt): one disc each
+    // time the stream has advanced one particle spacing. Discs start at the
+    // nozzle and are placed where the stream front is at the end of the
+    // substep. Sites inside solids or outside the domain are skipped.
+    void emit(double time, double dt, ParticleStore& particles, const SolidSet* solids);
+
+    std::size_t emitted() const { return emitted_; }
+    std::size_t discSize() const { return disc_.size(); }
+    // Particles per second while active: disc size * speed / spacing.
+    double rate() const;
+
+private:
+    EmitterDescription description_;
+    std::vector<Vec3> disc_;
+    float particleRadius_;
+    float spacing_;
+    float restDensity_;
+    Aabb inside_;                 // the solver's collision box
+    double travelled_ = 0.0;      // stream length not yet emitted, m
+    std::size_t emitted_ = 0;
+};
+
+}  // namespace pbf
