@@ -27,7 +27,13 @@ struct FluidParams {
 struct ArtificialPressureParams {
     // s_corr = -k (W(r) / W(dq h))^n, in units of the constraint's lambda
     // scale (paper eq. 13-14: k = 0.1, n = 4, dq = 0.1 .. 0.3 h).
-    float k = 0.1f;   // [0, 1]
+    // Default k = 0.01, not the paper's 0.1: s_corr is a repulsion between
+    // every pair, and with the constraint clamped at free surfaces (C >= 0)
+    // nothing balances it there, so it acts as an outward acceleration of
+    // order k * spacing / dt^2 on spray and thin streams (k = 0.1 turns a
+    // poured stream into spray; 0.01 keeps it coherent and still damps the
+    // particle pairing seen with k = 0 in a resting tank).
+    float k = 0.01f;  // [0, 1]
     int n = 4;        // [1, 8]
     float dq = 0.2f;  // fraction of h, (0, 1)
 };
