@@ -2,14 +2,16 @@
 // distance field built by OpenVDB (tools::meshToLevelSet; Bridson-style
 // closest-triangle distances with inside/outside from a flood fill).
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include "pbf/solids.hpp"
@@ -29,28 +31,46 @@ public:
         : grid_(std::move(grid)),
           bounds_(bounds),
           description_(std::move(description)),
-          voxel_(static_cast<float>(grid_->voxelSize()[0])),
-          shellHalfThickness_(shellHalfThickness) {}
+          shellHalfThickness_(shellHalfThickness),
+          serial_(++serialCounter) {}
 
     float signedDistance(const Vec3& p, Vec3& normal) const override {
-        const auto& tree = grid_->tree();
-        const openvdb::math::Transform& xform = grid_->transform();
-        auto sample = [&](float x, float y, float z) {
-            return openvdb::tools::BoxSampler::sample(tree, xform.worldToIndex(openvdb::Vec3d(x, y, z)));
-        };
-        const float d = sample(p.x, p.y, p.z);
-        // Central differences one voxel apart: the level set's gradient.
-        const float e = voxel_;
-        Vec3 g{sample(p.x + e, p.y, p.z) - sample(p.x - e, p.y, p.z),
-               sample(p.x, p.y + e, p.z) - sample(p.x, p.y - e, p.z),
-               sample(p.x, p.y, p.z + e) - sample(p.x, p.y, p.z - e)};
-        if (shellHalfThickness_ > 0.0f) {
-            // Unsigned field of an open mesh: a shell around the surface.
-            if (d < shellHalfThickness_ && length(g) == 0.0f) g = {0.0f, 1.0f, 0.0f};
-            const float len = length(g);
-            normal = len > 0.0f ? g * (1.0f / len) : Vec3{0.0f, 1.0f, 0.0f};
-            return d - shellHalfThickness_;
+        // Trilinear interpolation of the 8 surrounding voxels gives the
+        // distance and, differentiated, its gradient in one set of lookups.
+        // Each thread keeps a cached tree accessor (voxels of neighbouring
+        // queries share leaf nodes).
+        // Keyed by a serial number, not the address: a new solid may reuse
+        // the address of a destroyed one whose tree the accessor points into.
+        thread_local std::uint64_t owner = 0;
+        thread_local std::optional<openvdb::FloatGrid::ConstAccessor> accessor;
+        if (owner != serial_ || !accessor) {
+            accessor.emplace(grid_->getConstAccessor());
+            owner = serial_;
         }
+        const openvdb::Vec3d index = grid_->transform().worldToIndex(openvdb::Vec3d(p.x, p.y, p.z));
+        const openvdb::Coord base(static_cast<int>(std::floor(index.x())), static_cast<int>(std::floor(index.y())),
+                                  static_cast<int>(std::floor(index.z())));
+        const float fx = static_cast<float>(index.x() - base.x());
+        const float fy = static_cast<float>(index.y() - base.y());
+        const float fz = static_cast<float>(index.z() - base.z());
+        float v[2][2][2];
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b)
+                for (int c = 0; c < 2; ++c) v[a][b][c] = accessor->getValue(base.offsetBy(a, b, c));
+        auto lerp = [](float x0, float x1, float t) { return x0 + t * (x1 - x0); };
+        // Interpolate along z, then y, then x, keeping the partial derivatives.
+        float vz[2][2], dz[2][2];
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2; ++b) {
+                vz[a][b] = lerp(v[a][b][0], v[a][b][1], fz);
+                dz[a][b] = v[a][b][1] - v[a][b][0];
+            }
+        const float vy0 = lerp(vz[0][0], vz[0][1], fy), vy1 = lerp(vz[1][0], vz[1][1], fy);
+        const float dy0 = vz[0][1] - vz[0][0], dy1 = vz[1][1] - vz[1][0];
+        const float dz0 = lerp(dz[0][0], dz[0][1], fy), dz1 = lerp(dz[1][0], dz[1][1], fy);
+        float d = lerp(vy0, vy1, fx);
+        Vec3 g{vy1 - vy0, lerp(dy0, dy1, fx), lerp(dz0, dz1, fx)};
+        if (shellHalfThickness_ > 0.0f) d -= shellHalfThickness_;  // open mesh: a shell
         const float len = length(g);
         normal = len > 0.0f ? g * (1.0f / len) : Vec3{0.0f, 1.0f, 0.0f};
         return d;
@@ -62,8 +82,9 @@ private:
     openvdb::FloatGrid::Ptr grid_;
     Aabb bounds_;
     std::string description_;
-    float voxel_;
     float shellHalfThickness_;
+    std::uint64_t serial_;
+    static inline std::atomic<std::uint64_t> serialCounter{0};
 };
 
 }  // namespace

@@ -20,7 +20,7 @@ using pbf::Vec3;
 // closed form x0 + v0 t + g t^2 / 2 as dt -> 0.
 TEST(Physics, FreeFallMatchesClosedForm) {
     pbf::SimulationParams params;
-    params.domain = {{-20, -20, -20}, {20, 20, 20}};
+    params.domain = {{-5, -5, -5}, {5, 5, 5}};
     params.particleRadius = 0.05f;
     const Vec3 g = params.gravity;
     for (const int steps : {10, 100, 1000}) {

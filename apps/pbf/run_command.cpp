@@ -37,7 +37,7 @@ int runScene(const RunArguments& args) {
 
     const std::size_t particles = countParticles(scene);
     if (!args.quiet)
-        fmt::print(stderr, "pbf run: {} ({} particles, {} frames at {} fps, {} threads) -> {}\n",
+        fmt::print(stderr, "pbf run: {} (up to {} particles, {} frames at {} fps, {} threads) -> {}\n",
                    scene.name, particles, scene.output.frames, scene.output.fps, threadCount(),
                    scene.output.directory);
     ProgressBar progress("simulating", scene.output.frames, !args.quiet);
@@ -45,6 +45,18 @@ int runScene(const RunArguments& args) {
     options.outputDirectory = scene.output.directory;
     options.frames = scene.output.frames;
     options.writeParticles = scene.output.writeParticles;
+    options.onStart = [&](const Simulation& simulation) {
+        if (args.quiet) return;
+        if (const SolidSet* solids = simulation.solids())
+            for (std::size_t k = 0; k < solids->size(); ++k)
+                fmt::print(stderr, "pbf run: solid {}: {}\n", k, (*solids)[k].describe());
+        if (simulation.skippedParticles() > 0)
+            fmt::print(stderr, "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
+                       simulation.skippedParticles());
+        for (const Emitter& e : simulation.emitters())
+            fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n", e.discSize(),
+                       e.rate());
+    };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
                         fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
@@ -58,6 +70,11 @@ int runScene(const RunArguments& args) {
         s.frames, s.particles, s.simulatedSeconds, s.wallSeconds, s.substeps,
         s.particleStepsPerSecond * 1e-6, 100.0 * s.averageDensityError, 100.0 * s.maxDensityError,
         s.maxEscaped, scene.output.directory);
+    if (s.maxInsideSolid > 0) {
+        printError(fmt::format("{} particles ended inside a solid (a solver bug): see {}/stats.csv",
+                               s.maxInsideSolid, scene.output.directory));
+        return 3;
+    }
     if (s.maxEscaped > 0) {
         printError(fmt::format("{} particles left the domain (a solver bug): see {}/stats.csv",
                                s.maxEscaped, scene.output.directory));
