@@ -161,7 +161,7 @@ void Solver::step(ParticleStore& p, float dt) {
     });
     if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeVorticityAndViscosity(c, fluid.viscosity, search_, p.predicted,
+            stages::computeVorticityAndViscosity(c, fluid.viscosity, fluid.vorticity > 0.0f, search_, p.predicted,
                                                  p.velocity, density, vorticity_, delta_, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {

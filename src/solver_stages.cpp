@@ -191,27 +191,67 @@ void updateVelocity(float inverseDt, const Float3Array& position, const Float3Ar
         velocity.set(i, (predicted.get(i) - position.get(i)) * inverseDt);
 }
 
-void computeVorticityAndViscosity(const SolverConstants& c, float viscosity,
+void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
                                   const NeighborSearch& search, const Float3Array& predicted,
                                   const Float3Array& velocity, const float* density,
                                   Float3Array& vorticity, Float3Array& viscosityDelta,
                                   std::size_t begin, std::size_t end) {
+    const float* px = predicted.x.data();
+    const float* py = predicted.y.data();
+    const float* pz = predicted.z.data();
+    const float* vx = velocity.x.data();
+    const float* vy = velocity.y.data();
+    const float* vz = velocity.z.data();
+    const float h = c.h, h2 = c.poly6.h2, mass = c.particleMass;
+    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient;
     for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 xi = predicted.get(i);
-        const Vec3 vi = velocity.get(i);
+        const float xi = px[i], yi = py[i], zi = pz[i];
+        const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
         const float rhoI = density[i];
-        Vec3 omega{};
-        Vec3 dv{};
-        for (const std::uint32_t j : search.neighbors(i)) {
-            const Vec3 rij = xi - predicted.get(j);
-            const float r2 = lengthSquared(rij);
-            const Vec3 vij = velocity.get(j) - vi;
-            const float volumeJ = c.particleMass / density[j];
-            omega += cross(c.spiky.gradient(rij, std::sqrt(r2)), vij) * volumeJ;
-            dv += vij * (2.0f * c.particleMass / (rhoI + density[j]) * c.poly6.value(r2));
+        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
+        const std::uint32_t* nb = nbrs.data();
+        const int count = static_cast<int>(nbrs.size());
+        float dvx = 0.0f, dvy = 0.0f, dvz = 0.0f;
+        float ox = 0.0f, oy = 0.0f, oz = 0.0f;
+        if (withVorticity) {
+#pragma omp simd reduction(+ : dvx, dvy, dvz, ox, oy, oz)
+            for (int k = 0; k < count; ++k) {
+                const std::uint32_t j = nb[k];
+                const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+                const float r2 = dx * dx + dy * dy + dz * dz;
+                const float r = std::sqrt(r2);
+                const bool inside = r2 < h2 && r > 0.0f;
+                const float wx = vx[j] - vxi, wy = vy[j] - vyi, wz = vz[j] - vzi;
+                const float d2 = h2 - r2;
+                const float w = inside ? poly6 * d2 * d2 * d2 : 0.0f;
+                const float xsph = 2.0f * mass / (rhoI + density[j]) * w;
+                dvx += wx * xsph;
+                dvy += wy * xsph;
+                dvz += wz * xsph;
+                // omega_i += V_j grad_i W_ij x (v_j - v_i)
+                const float d = h - r;
+                const float g = inside ? spiky * d * d / r * (mass / density[j]) : 0.0f;
+                const float gx = g * dx, gy = g * dy, gz = g * dz;
+                ox += gy * wz - gz * wy;
+                oy += gz * wx - gx * wz;
+                oz += gx * wy - gy * wx;
+            }
+        } else {
+#pragma omp simd reduction(+ : dvx, dvy, dvz)
+            for (int k = 0; k < count; ++k) {
+                const std::uint32_t j = nb[k];
+                const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+                const float r2 = dx * dx + dy * dy + dz * dz;
+                const float d2 = h2 - r2;
+                const float w = r2 < h2 ? poly6 * d2 * d2 * d2 : 0.0f;
+                const float xsph = 2.0f * mass / (rhoI + density[j]) * w;
+                dvx += (vx[j] - vxi) * xsph;
+                dvy += (vy[j] - vyi) * xsph;
+                dvz += (vz[j] - vzi) * xsph;
+            }
         }
-        vorticity.set(i, omega);
-        viscosityDelta.set(i, dv * viscosity);
+        vorticity.set(i, {ox, oy, oz});
+        viscosityDelta.set(i, Vec3{dvx, dvy, dvz} * viscosity);
     }
 }
 

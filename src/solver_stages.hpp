@@ -57,7 +57,7 @@ void updateVelocity(float inverseDt, const Float3Array& position, const Float3Ar
 // Curl omega_i = sum_j V_j grad_i W_ij x (v_j - v_i) (paper eq. 15) and the
 // XSPH increment dv_i = c sum_j 2m/(rho_i + rho_j) (v_j - v_i) W_ij (eq. 17,
 // with the symmetric volume so that momentum is conserved).
-void computeVorticityAndViscosity(const SolverConstants& c, float viscosity,
+void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
                                   const NeighborSearch& search, const Float3Array& predicted,
                                   const Float3Array& velocity, const float* density,
                                   Float3Array& vorticity, Float3Array& viscosityDelta,
