@@ -106,6 +106,7 @@ void Solver::ensureCapacity(std::size_t n) {
     if (lambda_.size() == n) return;
     lambda_.resize(n);
     delta_.resize(n);
+    corrected_.resize(n);
     vorticity_.resize(n);
 }
 
@@ -143,13 +144,14 @@ void Solver::step(ParticleStore& p, float dt) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::computeDensityAndLambda(c, solids, search_, p.predicted, density, lambda, b, e);
         });
+        // Correction and its application fused in one pass: the corrected
+        // positions go to a second array, swapped in afterwards.
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::computePositionCorrection(c, solids, search_, p.predicted, lambda, delta_, b, e);
+            stages::applyPositionCorrection(box, delta_, p.predicted, corrected_, b, e);
+            if (solids) stages::resolveSolidCollisions(c, *solids, radius, p.position, corrected_, b, e);
         });
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::applyPositionCorrection(box, delta_, p.predicted, b, e);
-            if (solids) stages::resolveSolidCollisions(c, *solids, radius, p.position, p.predicted, b, e);
-        });
+        std::swap(p.predicted, corrected_);
     }
     times_.solve = millisecondsSince(t);
 
@@ -181,7 +183,8 @@ void Solver::step(ParticleStore& p, float dt) {
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(float) *
-               (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
+               (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * corrected_.x.capacity() +
+                3 * vorticity_.x.capacity());
 }
 
 float maxSpeed(const ParticleStore& p) {

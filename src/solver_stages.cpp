@@ -179,10 +179,10 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
     }
 }
 
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta, Float3Array& predicted,
-                             std::size_t begin, std::size_t end) {
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta, const Float3Array& predicted,
+                             Float3Array& corrected, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-        predicted.set(i, clampToBox(box, predicted.get(i) + delta.get(i)));
+        corrected.set(i, clampToBox(box, predicted.get(i) + delta.get(i)));
 }
 
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,

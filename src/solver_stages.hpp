@@ -32,9 +32,11 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
                                const Float3Array& predicted, const float* lambda,
                                Float3Array& delta, std::size_t begin, std::size_t end);
 
-// x* += dp, then projection into the collision box (Alg. 1 l. 16-18).
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta, Float3Array& predicted,
-                             std::size_t begin, std::size_t end);
+// corrected = x* + dp, projected into the collision box (Alg. 1 l. 16-18).
+// Written to a second array so that it can run in the same pass as the
+// correction itself (other blocks still read x*).
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta, const Float3Array& predicted,
+                             Float3Array& corrected, std::size_t begin, std::size_t end);
 
 // Keeps x* at least one particle radius outside every solid. The move from x
 // (outside, the start of the step) to x* is swept by sphere tracing the

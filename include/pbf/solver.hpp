@@ -103,6 +103,7 @@ class Solver {
     std::vector<std::uint32_t> perm_;
     std::vector<float> lambda_;
     Float3Array delta_;      // position corrections; later velocity increments
+    Float3Array corrected_;  // x* + dp of the current iteration, swapped into x*
     Float3Array vorticity_;  // omega_i
 };
 
