@@ -2,11 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace pbf {
 
 Simulation::Simulation(const Scene& scene)
     : scene_(scene), particles_(createParticles(scene)), solver_(scene.simulation) {}
+
+void Simulation::setParams(const SimulationParams& params) {
+    if (const std::string problem = validate(params); !problem.empty()) throw SceneError(problem);
+    try {
+        solver_.setParams(params);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
+    }
+    scene_.simulation = params;  // the adaptive substep reads cfl and limits from here
+}
 
 double Simulation::adaptiveSubstep(double remaining) const {
     const SolverParams& s = scene_.simulation.solver;

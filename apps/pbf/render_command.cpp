@@ -62,7 +62,8 @@ Vec3 parseVec3(const std::string& option, const std::string& text) {
 }
 
 std::vector<fs::path> plyFrames(const fs::path& directory) {
-    if (!fs::is_directory(directory)) throw IoError(directory.string() + ": not a directory of PLY frames");
+    if (!fs::is_directory(directory))
+        throw IoError(directory.string() + ": not a directory of PLY frames");
     std::vector<fs::path> files;
     const std::regex name(R"(frame_\d+\.ply)");
     for (const auto& entry : fs::directory_iterator(directory))
@@ -85,8 +86,10 @@ Aabb boundingBox(const ParticleFrame& frame) {
 
 int runRender(const RenderArguments& args) {
     if (args.scene.empty() == args.plyDirectory.empty())
-        throw CLI::ValidationError("scene", "give either a scene file or --ply DIR (a directory of PLY frames)");
-    if (const std::string problem = render::validateResolution(args.width, args.height); !problem.empty())
+        throw CLI::ValidationError(
+            "scene", "give either a scene file or --ply DIR (a directory of PLY frames)");
+    if (const std::string problem = render::validateResolution(args.width, args.height);
+        !problem.empty())
         throw CLI::ValidationError("--width/--height", problem.substr(problem.find(':') + 2));
 
     render::RenderSettings settings;
@@ -105,7 +108,8 @@ int runRender(const RenderArguments& args) {
     ParticleFrame firstFrame;
     if (!args.plyDirectory.empty()) {
         plyFiles = plyFrames(args.plyDirectory);
-        if (args.frames > 0 && std::size_t(args.frames) < plyFiles.size()) plyFiles.resize(std::size_t(args.frames));
+        if (args.frames > 0 && std::size_t(args.frames) < plyFiles.size())
+            plyFiles.resize(std::size_t(args.frames));
         firstFrame = readParticlesPly(plyFiles.front());
     }
     const SimulationParams params = scene ? scene->simulation : SimulationParams{};
@@ -118,23 +122,28 @@ int runRender(const RenderArguments& args) {
         char comma = 0;
         if (!(in >> settings.rangeMin >> comma >> settings.rangeMax) || comma != ',' || !in.eof() ||
             !(settings.rangeMax > settings.rangeMin))
-            throw CLI::ValidationError("--range", "expected MIN,MAX with MIN < MAX, got '" + args.range + "'");
+            throw CLI::ValidationError("--range",
+                                       "expected MIN,MAX with MIN < MAX, got '" + args.range + "'");
     }
 
-    render::Camera camera = render::frameBox(domain, float(args.width) / float(args.height), args.fov);
-    if (!args.cameraPosition.empty()) camera.position = parseVec3("--camera-position", args.cameraPosition);
+    render::Camera camera =
+        render::frameBox(domain, float(args.width) / float(args.height), args.fov);
+    if (!args.cameraPosition.empty())
+        camera.position = parseVec3("--camera-position", args.cameraPosition);
     if (!args.cameraTarget.empty()) camera.target = parseVec3("--camera-target", args.cameraTarget);
     camera.fovY = args.fov;
     if (const std::string problem = render::validateCamera(camera); !problem.empty())
         throw CLI::ValidationError("camera", problem);
 
     const std::string name = scene ? scene->name : fs::path(args.plyDirectory).filename().string();
-    const fs::path out = !args.out.empty()
-                             ? fs::path(args.out)
-                             : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, args.style);
+    const fs::path out =
+        !args.out.empty()
+            ? fs::path(args.out)
+            : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, args.style);
     fs::create_directories(out);
 
-    const int total = scene ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1 : int(plyFiles.size());
+    const int total =
+        scene ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1 : int(plyFiles.size());
     const double fps = scene ? scene->output.fps : 30.0;
     if (args.threads > 0) setThreadCount(args.threads);
 
@@ -144,8 +153,10 @@ int runRender(const RenderArguments& args) {
     renderer.setParticleRadius(radius);
     render::OffscreenTarget target(args.width, args.height);
     if (!args.quiet)
-        fmt::print(stderr, "pbf render: {} frames of {}, {}x{}, {} look, colour by {}, on {} -> {}\n", total, name,
-                   args.width, args.height, args.style, args.color, context.rendererName(), out.string());
+        fmt::print(stderr,
+                   "pbf render: {} frames of {}, {}x{}, {} look, colour by {}, on {} -> {}\n",
+                   total, name, args.width, args.height, args.style, args.color,
+                   context.rendererName(), out.string());
 
     std::unique_ptr<Simulation> simulation;
     if (scene) simulation = std::make_unique<Simulation>(*scene);
@@ -158,8 +169,9 @@ int runRender(const RenderArguments& args) {
             if (frame > 0) simulation->advanceFrame();
             particles = render::packParticles(simulation->particles(), settings.color);
         } else {
-            particles = render::packParticles(frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]),
-                                              settings.color);
+            particles = render::packParticles(
+                frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]),
+                settings.color);
         }
         const auto t1 = Clock::now();
         renderer.upload(particles);
@@ -191,10 +203,12 @@ int runRender(const RenderArguments& args) {
     } else if (total <= 1) {
         videoText = "no video (one frame)";
     }
-    fmt::print("pbf render: {} frames {}x{} ({}) -> {}/frame_*.png, {}; simulate {:.2f} s, render {:.2f} s "
-               "({:.1f} ms per frame)\n",
-               total, args.width, args.height, args.style, out.string(), videoText, simulateSeconds, renderSeconds,
-               1e3 * renderSeconds / total);
+    fmt::print(
+        "pbf render: {} frames {}x{} ({}) -> {}/frame_*.png, {}; simulate {:.2f} s, render {:.2f} "
+        "s "
+        "({:.1f} ms per frame)\n",
+        total, args.width, args.height, args.style, out.string(), videoText, simulateSeconds,
+        renderSeconds, 1e3 * renderSeconds / total);
     return status;
 }
 
@@ -203,26 +217,40 @@ int runRender(const RenderArguments& args) {
 std::function<int()> addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArguments>();
     CLI::App* cmd = app.add_subcommand(
-        "render", "Render PNG frames and an MP4 video without a display (EGL), from a scene or PLY frames");
-    cmd->add_option("scene", args->scene, "Scene to simulate and render (JSON, see docs/scenes.md)");
-    cmd->add_option("--ply", args->plyDirectory, "Render the frame_NNNNN.ply files of this directory instead");
+        "render",
+        "Render PNG frames and an MP4 video without a display (EGL), from a scene or PLY frames");
+    cmd->add_option("scene", args->scene,
+                    "Scene to simulate and render (JSON, see docs/scenes.md)");
+    cmd->add_option("--ply", args->plyDirectory,
+                    "Render the frame_NNNNN.ply files of this directory instead");
     cmd->add_option("-o,--out", args->out, "Output directory (default: out/<name>_<style>)");
     cmd->add_option("-f,--frames", args->frames,
                     "Scene: frames to simulate after the initial one (default: output.frames); "
                     "PLY: at most this many files")
         ->check(CLI::Range(0, 1000000));
-    cmd->add_option("--width", args->width, "Image width in pixels [16, 8192]")->capture_default_str();
-    cmd->add_option("--height", args->height, "Image height in pixels [16, 8192]")->capture_default_str();
-    cmd->add_option("--camera-position", args->cameraPosition, "Camera position X,Y,Z in metres (default: framing the domain)");
-    cmd->add_option("--camera-target", args->cameraTarget, "Point the camera looks at, X,Y,Z (default: domain centre)");
-    cmd->add_option("--fov", args->fov, "Vertical field of view in degrees [1, 170]")->capture_default_str();
-    cmd->add_option("--style", args->style, "spheres (impostors) or liquid (screen-space fluid)")->capture_default_str();
-    cmd->add_option("--color", args->color, "Sphere colour: speed, density or flat")->capture_default_str();
-    cmd->add_option("--range", args->range, "Colour map range MIN,MAX (m/s or kg/m^3; default from the scene)");
+    cmd->add_option("--width", args->width, "Image width in pixels [16, 8192]")
+        ->capture_default_str();
+    cmd->add_option("--height", args->height, "Image height in pixels [16, 8192]")
+        ->capture_default_str();
+    cmd->add_option("--camera-position", args->cameraPosition,
+                    "Camera position X,Y,Z in metres (default: framing the domain)");
+    cmd->add_option("--camera-target", args->cameraTarget,
+                    "Point the camera looks at, X,Y,Z (default: domain centre)");
+    cmd->add_option("--fov", args->fov, "Vertical field of view in degrees [1, 170]")
+        ->capture_default_str();
+    cmd->add_option("--style", args->style, "spheres (impostors) or liquid (screen-space fluid)")
+        ->capture_default_str();
+    cmd->add_option("--color", args->color, "Sphere colour: speed, density or flat")
+        ->capture_default_str();
+    cmd->add_option("--range", args->range,
+                    "Colour map range MIN,MAX (m/s or kg/m^3; default from the scene)");
     cmd->add_flag("--no-video", args->noVideo, "Only PNG frames, no MP4");
     cmd->add_flag("--no-box", args->noBox, "Do not draw the domain box");
-    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")->check(CLI::Range(1, 1024));
-    cmd->add_option("-s,--set", args->overrides, "Override a scene field, e.g. --set solver.iterations=8")->take_all();
+    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    cmd->add_option("-s,--set", args->overrides,
+                    "Override a scene field, e.g. --set solver.iterations=8")
+        ->take_all();
     cmd->add_flag("-q,--quiet", args->quiet, "No progress bar");
     return [args] { return runRender(*args); };
 }

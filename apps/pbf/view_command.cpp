@@ -29,7 +29,8 @@ struct ViewArguments {
 };
 
 int runView(const ViewArguments& args) {
-    if (const std::string problem = render::validateResolution(args.width, args.height); !problem.empty())
+    if (const std::string problem = render::validateResolution(args.width, args.height);
+        !problem.empty())
         throw CLI::ValidationError("--width/--height", problem.substr(problem.find(':') + 2));
     std::vector<SceneOverride> overrides;
     for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
@@ -48,9 +49,10 @@ int runView(const ViewArguments& args) {
     if (!args.screenshot.empty() && args.frames <= 0) options.frames = 1;
 
     const render::ViewerSummary s = render::runViewer(scene, options);
-    fmt::print("pbf view: {} frames simulated ({:.1f} ms each), {} frames drawn ({:.1f} ms each){}\n",
-               s.framesSimulated, s.averageStepMs, s.framesDrawn, s.averageRenderMs,
-               args.screenshot.empty() ? "" : ", screenshot " + args.screenshot);
+    fmt::print(
+        "pbf view: {} frames simulated ({:.1f} ms each), {} frames drawn ({:.1f} ms each){}\n",
+        s.framesSimulated, s.averageStepMs, s.framesDrawn, s.averageRenderMs,
+        args.screenshot.empty() ? "" : ", screenshot " + args.screenshot);
     return 0;
 }
 
@@ -58,19 +60,26 @@ int runView(const ViewArguments& args) {
 
 std::function<int()> addViewCommand(CLI::App& app) {
     auto args = std::make_shared<ViewArguments>();
-    CLI::App* cmd = app.add_subcommand("view", "Simulate a scene live in a window (needs a display; see pbf render)");
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Simulate a scene live in a window (needs a display; see pbf render)");
     cmd->add_option("scene", args->scene, "Scene file (JSON, see docs/scenes.md)")->required();
     cmd->add_option("--width", args->width, "Window width in pixels")->capture_default_str();
     cmd->add_option("--height", args->height, "Window height in pixels")->capture_default_str();
-    cmd->add_option("--style", args->style, "spheres or liquid (switchable in the panel)")->capture_default_str();
-    cmd->add_option("--color", args->color, "speed, density or flat (switchable in the panel)")->capture_default_str();
+    cmd->add_option("--style", args->style, "spheres or liquid (switchable in the panel)")
+        ->capture_default_str();
+    cmd->add_option("--color", args->color, "speed, density or flat (switchable in the panel)")
+        ->capture_default_str();
     cmd->add_flag("--paused", args->paused, "Start paused");
     cmd->add_option("--screenshot", args->screenshot,
                     "Simulate --frames frames, save the window as this PNG and quit");
-    cmd->add_option("--frames", args->frames, "Frames to simulate before the screenshot (default 1)")
+    cmd->add_option("--frames", args->frames,
+                    "Frames to simulate before the screenshot (default 1)")
         ->check(CLI::Range(1, 1000000));
-    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")->check(CLI::Range(1, 1024));
-    cmd->add_option("-s,--set", args->overrides, "Override a scene field, e.g. --set solver.iterations=8")->take_all();
+    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    cmd->add_option("-s,--set", args->overrides,
+                    "Override a scene field, e.g. --set solver.iterations=8")
+        ->take_all();
     return [args] { return runView(*args); };
 }
 

@@ -22,7 +22,7 @@ struct FrameReport {
 };
 
 class Simulation {
-public:
+  public:
     explicit Simulation(const Scene& scene);
 
     const Scene& scene() const { return scene_; }
@@ -33,6 +33,12 @@ public:
     int frame() const { return frame_; }
     double time() const { return time_; }
     double frameDuration() const { return 1.0 / scene_.output.fps; }
+
+    // Changes parameters between frames (iterations, CFL, viscosity, vorticity,
+    // s_corr, ...: what Solver::setParams allows; the viewer's live panel).
+    // Throws SceneError when validate() rejects them or when they change the
+    // domain, particle radius or kernel factor.
+    void setParams(const SimulationParams& params);
 
     // Simulates one output frame (1 / fps seconds) and reports on it.
     FrameReport advanceFrame();
@@ -45,7 +51,7 @@ public:
     // out so that the frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
 
-private:
+  private:
     Scene scene_;
     ParticleStore particles_;
     Solver solver_;

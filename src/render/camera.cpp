@@ -11,9 +11,13 @@ namespace {
 
 constexpr float kDegrees = std::numbers::pi_v<float> / 180.0f;
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
-Vec3 normalized(const Vec3& v) { return v * (1.0f / length(v)); }
+Vec3 normalized(const Vec3& v) {
+    return v * (1.0f / length(v));
+}
 
 }  // namespace
 
@@ -33,9 +37,11 @@ std::string validateCamera(const Camera& camera) {
 
 std::string validateResolution(int width, int height) {
     if (width < kMinImageSide || width > kMaxImageSide)
-        return fmt::format("width: must be in [{}, {}], got {}", kMinImageSide, kMaxImageSide, width);
+        return fmt::format("width: must be in [{}, {}], got {}", kMinImageSide, kMaxImageSide,
+                           width);
     if (height < kMinImageSide || height > kMaxImageSide)
-        return fmt::format("height: must be in [{}, {}], got {}", kMinImageSide, kMaxImageSide, height);
+        return fmt::format("height: must be in [{}, {}], got {}", kMinImageSide, kMaxImageSide,
+                           height);
     return {};
 }
 
@@ -50,7 +56,8 @@ Camera frameBox(const Aabb& box, float aspect, float fovY) {
     // From the front (+z), 25 degrees above and 20 degrees to the right.
     const float pitch = 25.0f * kDegrees;
     const float yaw = 20.0f * kDegrees;
-    const Vec3 direction{std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)};
+    const Vec3 direction{std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                         std::cos(pitch) * std::cos(yaw)};
     Camera camera;
     camera.target = center;
     camera.position = center + direction * distance;
@@ -86,7 +93,8 @@ void OrbitCamera::zoom(float factor) {
 Camera OrbitCamera::camera() const {
     const float pitch = pitch_ * kDegrees;
     const float yaw = yaw_ * kDegrees;
-    const Vec3 back{std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)};
+    const Vec3 back{std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                    std::cos(pitch) * std::cos(yaw)};
     Camera c;
     c.target = target_;
     c.position = target_ + back * distance_;

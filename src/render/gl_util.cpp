@@ -19,7 +19,8 @@ GLuint compile(const std::string& name, GLenum stage, const std::string& source)
     std::string log(static_cast<std::size_t>(length > 0 ? length : 1), '\0');
     glGetShaderInfoLog(shader, length, nullptr, log.data());
     glDeleteShader(shader);
-    throw std::runtime_error("shader " + name + (stage == GL_VERTEX_SHADER ? " (vertex)" : " (fragment)") +
+    throw std::runtime_error("shader " + name +
+                             (stage == GL_VERTEX_SHADER ? " (vertex)" : " (fragment)") +
                              " does not compile: " + log);
 }
 
@@ -70,10 +71,12 @@ Texture::~Texture() {
     if (id_ != 0) glDeleteTextures(1, &id_);
 }
 
-void Texture::allocate(GLenum internalFormat, GLenum format, GLenum type, int width, int height, bool linear) {
+void Texture::allocate(GLenum internalFormat, GLenum format, GLenum type, int width, int height,
+                       bool linear) {
     if (id_ == 0) glGenTextures(1, &id_);
     glBindTexture(GL_TEXTURE_2D, id_);
-    glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internalFormat), width, height, 0, format, type, nullptr);
+    glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internalFormat), width, height, 0, format,
+                 type, nullptr);
     const GLint filter = linear ? GL_LINEAR : GL_NEAREST;
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
@@ -82,9 +85,13 @@ void Texture::allocate(GLenum internalFormat, GLenum format, GLenum type, int wi
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-Framebuffer::Framebuffer() { glGenFramebuffers(1, &id_); }
+Framebuffer::Framebuffer() {
+    glGenFramebuffers(1, &id_);
+}
 
-Framebuffer::~Framebuffer() { glDeleteFramebuffers(1, &id_); }
+Framebuffer::~Framebuffer() {
+    glDeleteFramebuffers(1, &id_);
+}
 
 void Framebuffer::attach(GLuint colorTexture, GLuint depthTexture) {
     glBindFramebuffer(GL_FRAMEBUFFER, id_);
@@ -93,7 +100,8 @@ void Framebuffer::attach(GLuint colorTexture, GLuint depthTexture) {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw std::runtime_error("OpenGL framebuffer incomplete (status " + std::to_string(status) + ")");
+        throw std::runtime_error("OpenGL framebuffer incomplete (status " + std::to_string(status) +
+                                 ")");
 }
 
 void bindTexture(const Program& program, const char* sampler, int unit, GLuint texture) {

@@ -10,7 +10,7 @@ namespace pbf::render::gl {
 
 // A linked shader program; throws std::runtime_error with the compile or link log.
 class Program {
-public:
+  public:
     Program() = default;
     Program(const std::string& name, const std::string& vertex, const std::string& fragment);
     ~Program();
@@ -22,26 +22,27 @@ public:
     void use() const { glUseProgram(id_); }
     GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
 
-private:
+  private:
     GLuint id_ = 0;
 };
 
 // A 2D texture with nearest filtering and clamped edges.
 class Texture {
-public:
+  public:
     Texture() = default;
     ~Texture();
     Texture(const Texture&) = delete;
     Texture& operator=(const Texture&) = delete;
-    void allocate(GLenum internalFormat, GLenum format, GLenum type, int width, int height, bool linear);
+    void allocate(GLenum internalFormat, GLenum format, GLenum type, int width, int height,
+                  bool linear);
     GLuint id() const { return id_; }
 
-private:
+  private:
     GLuint id_ = 0;
 };
 
 class Framebuffer {
-public:
+  public:
     Framebuffer();
     ~Framebuffer();
     Framebuffer(const Framebuffer&) = delete;
@@ -50,7 +51,7 @@ public:
     void attach(GLuint colorTexture, GLuint depthTexture);
     GLuint id() const { return id_; }
 
-private:
+  private:
     GLuint id_ = 0;
 };
 

@@ -20,7 +20,8 @@ namespace {
 EGLDisplay openDisplay() {
     // Mesa's surfaceless platform needs neither X nor a GPU device node.
     if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")) {
-        EGLDisplay d = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        EGLDisplay d =
+            eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         if (d != EGL_NO_DISPLAY) return d;
     }
     return eglGetDisplay(EGL_DEFAULT_DISPLAY);
@@ -32,7 +33,8 @@ std::string eglErrorText() {
     return text;
 }
 
-constexpr const char* kInstallHint = " (install the Debian packages libegl-mesa0 and libgl1-mesa-dri)";
+constexpr const char* kInstallHint =
+    " (install the Debian packages libegl-mesa0 and libgl1-mesa-dri)";
 
 }  // namespace
 
@@ -41,12 +43,22 @@ HeadlessContext::HeadlessContext() : impl_(std::make_unique<Impl>()) {
     c.display = openDisplay();
     EGLint major = 0, minor = 0;
     if (c.display == EGL_NO_DISPLAY || eglInitialize(c.display, &major, &minor) != EGL_TRUE)
-        throw RenderError("cannot open an EGL display for headless rendering: " + eglErrorText() + kInstallHint);
+        throw RenderError("cannot open an EGL display for headless rendering: " + eglErrorText() +
+                          kInstallHint);
     if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
         throw RenderError("EGL has no desktop OpenGL: " + eglErrorText() + kInstallHint);
-    const EGLint configAttributes[] = {EGL_SURFACE_TYPE,    EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
-                                       EGL_RED_SIZE,        8,               EGL_GREEN_SIZE,      8,
-                                       EGL_BLUE_SIZE,       8,               EGL_DEPTH_SIZE,      24,
+    const EGLint configAttributes[] = {EGL_SURFACE_TYPE,
+                                       EGL_PBUFFER_BIT,
+                                       EGL_RENDERABLE_TYPE,
+                                       EGL_OPENGL_BIT,
+                                       EGL_RED_SIZE,
+                                       8,
+                                       EGL_GREEN_SIZE,
+                                       8,
+                                       EGL_BLUE_SIZE,
+                                       8,
+                                       EGL_DEPTH_SIZE,
+                                       24,
                                        EGL_NONE};
     EGLConfig config = nullptr;
     EGLint count = 0;
@@ -62,7 +74,8 @@ HeadlessContext::HeadlessContext() : impl_(std::make_unique<Impl>()) {
     c.context = eglCreateContext(c.display, config, EGL_NO_CONTEXT, contextAttributes);
     if (c.context == EGL_NO_CONTEXT) {
         eglTerminate(c.display);
-        throw RenderError("cannot create an OpenGL 3.3 core context with EGL: " + eglErrorText() + kInstallHint);
+        throw RenderError("cannot create an OpenGL 3.3 core context with EGL: " + eglErrorText() +
+                          kInstallHint);
     }
     // Rendering goes to framebuffer objects; a 1x1 pbuffer only where
     // surfaceless contexts are not supported.
@@ -129,11 +142,12 @@ OffscreenTarget::OffscreenTarget(int width, int height)
     Impl& t = *impl_;
     if (!makeTarget(t.resolveFbo, t.resolveColor, t.resolveDepth, 0, width, height)) {
         destroyTarget(t.resolveFbo, t.resolveColor, t.resolveDepth);
-        throw RenderError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) +
-                          " offscreen framebuffer");
+        throw RenderError("cannot create a " + std::to_string(width) + "x" +
+                          std::to_string(height) + " offscreen framebuffer");
     }
     // Smooth edges of spheres and lines; without MSAA support, render directly.
-    t.multisampled = makeTarget(t.multisampleFbo, t.multisampleColor, t.multisampleDepth, 4, width, height);
+    t.multisampled =
+        makeTarget(t.multisampleFbo, t.multisampleColor, t.multisampleDepth, 4, width, height);
     if (!t.multisampled) destroyTarget(t.multisampleFbo, t.multisampleColor, t.multisampleDepth);
 }
 
@@ -150,7 +164,8 @@ Image OffscreenTarget::read() const {
     if (impl_->multisampled) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, impl_->multisampleFbo);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, impl_->resolveFbo);
-        glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT,
+                          GL_NEAREST);
     }
     return readFramebuffer(impl_->resolveFbo, width_, height_);
 }

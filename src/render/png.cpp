@@ -22,7 +22,8 @@ void writePng(const std::filesystem::path& path, const Image& image) {
     if (stbi_write_png_to_func(appendBytes, &bytes, image.width, image.height, 4, image.rgba.data(),
                                image.width * 4) == 0)
         throw IoError(path.string() + ": cannot encode PNG");
-    writeFileAtomically(path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
+    writeFileAtomically(
+        path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
 }
 
 }  // namespace pbf::render

@@ -21,13 +21,18 @@ ColorMode parseColorMode(const std::string& name) {
     throw std::invalid_argument("color: must be speed, density or flat, got '" + name + "'");
 }
 
-const char* toString(Style style) { return style == Style::Liquid ? "liquid" : "spheres"; }
+const char* toString(Style style) {
+    return style == Style::Liquid ? "liquid" : "spheres";
+}
 
 const char* toString(ColorMode mode) {
     switch (mode) {
-        case ColorMode::Speed: return "speed";
-        case ColorMode::Density: return "density";
-        case ColorMode::Flat: return "flat";
+        case ColorMode::Speed:
+            return "speed";
+        case ColorMode::Density:
+            return "density";
+        case ColorMode::Flat:
+            return "flat";
     }
     return "speed";
 }
@@ -53,7 +58,8 @@ RenderParticles packParticles(const ParticleStore& particles, ColorMode mode) {
         out.data[4 * i + 0] = particles.position.x[i];
         out.data[4 * i + 1] = particles.position.y[i];
         out.data[4 * i + 2] = particles.position.z[i];
-        out.data[4 * i + 3] = mode == ColorMode::Density ? particles.density[i] : length(particles.velocity.get(i));
+        out.data[4 * i + 3] =
+            mode == ColorMode::Density ? particles.density[i] : length(particles.velocity.get(i));
     }
     return out;
 }
@@ -68,7 +74,8 @@ RenderParticles packParticles(const ParticleFrame& frame, ColorMode mode) {
         out.data[4 * i + 2] = frame.position[i].z;
         float value = 0.0f;
         if (mode == ColorMode::Density && i < frame.density.size()) value = frame.density[i];
-        if (mode == ColorMode::Speed && i < frame.velocity.size()) value = length(frame.velocity[i]);
+        if (mode == ColorMode::Speed && i < frame.velocity.size())
+            value = length(frame.velocity[i]);
         out.data[4 * i + 3] = value;
     }
     return out;
@@ -76,13 +83,14 @@ RenderParticles packParticles(const ParticleFrame& frame, ColorMode mode) {
 
 std::array<float, 3> colorMap(float t) {
     // Keep in step with shaders::kColorMap.
-    constexpr float stops[4][3] = {{0.05f, 0.20f, 0.70f}, {0.10f, 0.70f, 0.90f}, {0.95f, 0.90f, 0.25f},
-                                   {0.85f, 0.15f, 0.10f}};
+    constexpr float stops[4][3] = {
+        {0.05f, 0.20f, 0.70f}, {0.10f, 0.70f, 0.90f}, {0.95f, 0.90f, 0.25f}, {0.85f, 0.15f, 0.10f}};
     t = std::clamp(t, 0.0f, 1.0f);
     const int segment = std::min(2, static_cast<int>(t * 3.0f));
     const float f = t * 3.0f - float(segment);
     std::array<float, 3> c{};
-    for (int k = 0; k < 3; ++k) c[k] = stops[segment][k] + (stops[segment + 1][k] - stops[segment][k]) * f;
+    for (int k = 0; k < 3; ++k)
+        c[k] = stops[segment][k] + (stops[segment + 1][k] - stops[segment][k]) * f;
     return c;
 }
 

@@ -1,10 +1,9 @@
 // SceneRenderer: the sphere and liquid looks (see renderer.hpp).
+#include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
-
-#include <algorithm>
-#include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -23,7 +22,9 @@ std::string fragment(std::initializer_list<const char*> parts) {
     return source;
 }
 
-glm::vec3 toGlm(const Vec3& v) { return {v.x, v.y, v.z}; }
+glm::vec3 toGlm(const Vec3& v) {
+    return {v.x, v.y, v.z};
+}
 
 // Matrices and derived values of one camera at one aspect ratio.
 struct View {
@@ -48,7 +49,8 @@ View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
     v.proj = glm::perspective(fov, aspect, nearPlane, farPlane);
     v.viewToWorld = glm::transpose(glm::mat3(v.view));
     v.tanHalf = {std::tan(0.5f * fov) * aspect, std::tan(0.5f * fov)};
-    v.lightView = glm::normalize(glm::mat3(v.view) * glm::normalize(glm::vec3(0.35f, 0.85f, 0.45f)));
+    v.lightView =
+        glm::normalize(glm::mat3(v.view) * glm::normalize(glm::vec3(0.35f, 0.85f, 0.45f)));
     v.pixelsPerMetre = 0.5f * float(height) / v.tanHalf.y;
     return v;
 }
@@ -56,16 +58,19 @@ View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
 }  // namespace
 
 struct SceneRenderer::Impl {
-    gl::Program sphereShade{"spheres", shaders::kSphereVertex,
-                            fragment({shaders::kColorMap, shaders::kSphereHit, shaders::kSphereShadeMain})};
+    gl::Program sphereShade{
+        "spheres", shaders::kSphereVertex,
+        fragment({shaders::kColorMap, shaders::kSphereHit, shaders::kSphereShadeMain})};
     gl::Program sphereDepth{"liquid depth", shaders::kSphereVertex,
                             fragment({shaders::kSphereHit, shaders::kSphereDepthMain})};
     gl::Program sphereThickness{"liquid thickness", shaders::kSphereVertex,
                                 fragment({shaders::kSphereHit, shaders::kSphereThicknessMain})};
-    gl::Program skyProgram{"sky", shaders::kFullscreenVertex, fragment({shaders::kSky, shaders::kSkyMain})};
+    gl::Program skyProgram{"sky", shaders::kFullscreenVertex,
+                           fragment({shaders::kSky, shaders::kSkyMain})};
     gl::Program floorProgram{"floor", shaders::kFloorVertex, shaders::kFloorFragment};
     gl::Program lineProgram{"lines", shaders::kFloorVertex, shaders::kLineFragment};
-    gl::Program bilateral{"bilateral filter", shaders::kFullscreenVertex, fragment({shaders::kBilateralMain})};
+    gl::Program bilateral{"bilateral filter", shaders::kFullscreenVertex,
+                          fragment({shaders::kBilateralMain})};
     gl::Program composite{"liquid composite", shaders::kFullscreenVertex,
                           fragment({shaders::kSky, shaders::kCompositeMain})};
 
@@ -118,13 +123,16 @@ struct SceneRenderer::Impl {
     void setDomain(const Aabb& box) {
         domain = box;
         const Vec3 a = box.min, b = box.max;
-        const float corners[8][3] = {{a.x, a.y, a.z}, {b.x, a.y, a.z}, {b.x, b.y, a.z}, {a.x, b.y, a.z},
-                                     {a.x, a.y, b.z}, {b.x, a.y, b.z}, {b.x, b.y, b.z}, {a.x, b.y, b.z}};
-        const int edges[24] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6, 6, 7, 7, 4, 0, 4, 1, 5, 2, 6, 3, 7};
+        const float corners[8][3] = {{a.x, a.y, a.z}, {b.x, a.y, a.z}, {b.x, b.y, a.z},
+                                     {a.x, b.y, a.z}, {a.x, a.y, b.z}, {b.x, a.y, b.z},
+                                     {b.x, b.y, b.z}, {a.x, b.y, b.z}};
+        const int edges[24] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6,
+                               6, 7, 7, 4, 0, 4, 1, 5, 2, 6, 3, 7};
         std::vector<float> lines;
         for (const int e : edges) lines.insert(lines.end(), corners[e], corners[e] + 3);
         glBindBuffer(GL_ARRAY_BUFFER, boxVbo);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lines.size() * sizeof(float)), lines.data(), GL_STATIC_DRAW);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lines.size() * sizeof(float)), lines.data(),
+                     GL_STATIC_DRAW);
         // The floor reaches well beyond the domain, just under its bottom.
         const float reach = 3.0f * std::max({box.extent().x, box.extent().y, box.extent().z});
         const float y = a.y - 1e-4f * reach;
@@ -141,7 +149,8 @@ struct SceneRenderer::Impl {
         width = w;
         height = h;
         backgroundColor.allocate(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, w, h, true);
-        backgroundDepth.allocate(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h, false);
+        backgroundDepth.allocate(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h,
+                                 false);
         splatDepth.allocate(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h, false);
         depthA.allocate(GL_R32F, GL_RED, GL_FLOAT, w, h, false);
         depthB.allocate(GL_R32F, GL_RED, GL_FLOAT, w, h, false);
@@ -155,7 +164,8 @@ struct SceneRenderer::Impl {
     void drawBackground(const View& v) {
         glDisable(GL_DEPTH_TEST);
         skyProgram.use();
-        glUniformMatrix3fv(skyProgram.uniform("uViewToWorld"), 1, GL_FALSE, glm::value_ptr(v.viewToWorld));
+        glUniformMatrix3fv(skyProgram.uniform("uViewToWorld"), 1, GL_FALSE,
+                           glm::value_ptr(v.viewToWorld));
         glUniform2fv(skyProgram.uniform("uTanHalf"), 1, glm::value_ptr(v.tanHalf));
         glBindVertexArray(emptyVao);
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -164,7 +174,8 @@ struct SceneRenderer::Impl {
         glDepthFunc(GL_LESS);
         const glm::mat4 viewProj = v.proj * v.view;
         floorProgram.use();
-        glUniformMatrix4fv(floorProgram.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+        glUniformMatrix4fv(floorProgram.uniform("uViewProj"), 1, GL_FALSE,
+                           glm::value_ptr(viewProj));
         const float size = std::max({domain.extent().x, domain.extent().z});
         glUniform1f(floorProgram.uniform("uTile"), size / 8.0f);
         glUniform2f(floorProgram.uniform("uCenter"), 0.5f * (domain.min.x + domain.max.x),
@@ -257,7 +268,8 @@ struct SceneRenderer::Impl {
         gl::bindTexture(composite, "uBackground", 2, backgroundColor.id());
         gl::bindTexture(composite, "uBackgroundDepth", 3, backgroundDepth.id());
         glUniformMatrix4fv(composite.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
-        glUniformMatrix3fv(composite.uniform("uViewToWorld"), 1, GL_FALSE, glm::value_ptr(v.viewToWorld));
+        glUniformMatrix3fv(composite.uniform("uViewToWorld"), 1, GL_FALSE,
+                           glm::value_ptr(v.viewToWorld));
         glUniform2fv(composite.uniform("uTanHalf"), 1, glm::value_ptr(v.tanHalf));
         glUniform3fv(composite.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
         // Absorption per metre: red goes first, so thick water turns blue-green.
@@ -275,14 +287,20 @@ struct SceneRenderer::Impl {
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 
-void SceneRenderer::setDomain(const Aabb& domain) { impl_->setDomain(domain); }
-void SceneRenderer::setParticleRadius(float radius) { impl_->radius = radius; }
-std::size_t SceneRenderer::particleCount() const { return impl_->count; }
+void SceneRenderer::setDomain(const Aabb& domain) {
+    impl_->setDomain(domain);
+}
+void SceneRenderer::setParticleRadius(float radius) {
+    impl_->radius = radius;
+}
+std::size_t SceneRenderer::particleCount() const {
+    return impl_->count;
+}
 
 void SceneRenderer::upload(const RenderParticles& particles) {
     glBindBuffer(GL_ARRAY_BUFFER, impl_->particleVbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)), particles.data.data(),
-                 GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)),
+                 particles.data.data(), GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     impl_->count = particles.count();
 }

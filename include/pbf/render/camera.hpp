@@ -16,7 +16,7 @@ namespace pbf::render {
 struct Camera {
     Vec3 position{0.5f, 0.5f, 2.0f};  // metres
     Vec3 target{0.5f, 0.5f, 0.5f};    // metres
-    float fovY = 45.0f;               // vertical field of view, degrees, (0, 180) exclusive; [1, 170] accepted
+    float fovY = 45.0f;  // vertical field of view, degrees, (0, 180) exclusive; [1, 170] accepted
 };
 
 // Empty when valid, else "field: problem" (fov outside [1, 170], position == target,
@@ -36,7 +36,7 @@ Camera frameBox(const Aabb& box, float aspect, float fovY = 40.0f);
 // Interactive orbit camera: left drag orbits, right / middle drag pans,
 // the wheel zooms (the viewer maps mouse input to these calls).
 class OrbitCamera {
-public:
+  public:
     OrbitCamera() = default;
     explicit OrbitCamera(const Camera& start);
 
@@ -49,7 +49,7 @@ public:
     Camera camera() const;
     float fovY() const { return fovY_; }
 
-private:
+  private:
     Vec3 target_{0.5f, 0.5f, 0.5f};
     float distance_ = 2.0f;
     float yaw_ = 0.0f;    // degrees about +y, 0 = looking along -z

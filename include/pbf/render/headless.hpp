@@ -12,7 +12,7 @@
 namespace pbf::render {
 
 class RenderError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
@@ -30,7 +30,7 @@ void writePng(const std::filesystem::path& path, const Image& image);
 // EGL on Mesa's surfaceless platform (falls back to the default display).
 // Throws RenderError with what to install when EGL or GL 3.3 is missing.
 class HeadlessContext {
-public:
+  public:
     HeadlessContext();
     ~HeadlessContext();
     HeadlessContext(const HeadlessContext&) = delete;
@@ -38,7 +38,7 @@ public:
     // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
     std::string rendererName() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
@@ -46,7 +46,7 @@ private:
 // An offscreen colour + depth framebuffer (4x multisampled when the driver
 // allows) and its read-back. Needs a current GL context.
 class OffscreenTarget {
-public:
+  public:
     OffscreenTarget(int width, int height);
     ~OffscreenTarget();
     OffscreenTarget(const OffscreenTarget&) = delete;
@@ -55,9 +55,9 @@ public:
     unsigned framebuffer() const;  // render into this
     int width() const { return width_; }
     int height() const { return height_; }
-    Image read() const;            // resolves and reads the pixels
+    Image read() const;  // resolves and reads the pixels
 
-private:
+  private:
     int width_;
     int height_;
     struct Impl;

@@ -65,7 +65,7 @@ RenderParticles packParticles(const ParticleFrame& frame, ColorMode mode);
 std::array<float, 3> colorMap(float t);
 
 class SceneRenderer {
-public:
+  public:
     // Compiles the shaders; throws std::runtime_error with the GL log on failure.
     SceneRenderer();
     ~SceneRenderer();
@@ -81,7 +81,7 @@ public:
     void render(unsigned framebuffer, int width, int height, const Camera& camera,
                 const RenderSettings& settings);
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -14,7 +14,7 @@ std::optional<std::filesystem::path> findProgram(const std::string& program);
 struct VideoResult {
     bool written = false;
     bool programMissing = false;  // ffmpeg is not on $PATH
-    std::string message;  // why not, when not written
+    std::string message;          // why not, when not written
 };
 
 // Runs `ffmpeg -framerate FPS -i DIR/frame_%05d.png ... OUTPUT` (H.264,
