@@ -22,7 +22,7 @@ struct FrameReport {
 };
 
 class Simulation {
-  public:
+public:
     explicit Simulation(const Scene& scene);
 
     const Scene& scene() const { return scene_; }
@@ -51,7 +51,7 @@ class Simulation {
     // out so that the frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
 
-  private:
+private:
     Scene scene_;
     ParticleStore particles_;
     Solver solver_;
