@@ -10,6 +10,7 @@
 #include <optional>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -90,7 +91,11 @@ int runRender(const RenderArguments& args) {
             "scene", "give either a scene file or --ply DIR (a directory of PLY frames)");
     if (const std::string problem = render::validateResolution(args.width, args.height);
         !problem.empty())
-        throw CLI::ValidationError("--width/--height", problem.substr(problem.find(':') + 2));
+        throw std::invalid_argument(problem);
+    // Checked before frameBox uses it.
+    if (!(args.fov >= 1.0f && args.fov <= 170.0f))
+        throw std::invalid_argument(
+            fmt::format("camera.fov: must be in [1, 170] degrees, got {}", args.fov));
 
     render::RenderSettings settings;
     settings.style = render::parseStyle(args.style);
@@ -133,7 +138,7 @@ int runRender(const RenderArguments& args) {
     if (!args.cameraTarget.empty()) camera.target = parseVec3("--camera-target", args.cameraTarget);
     camera.fovY = args.fov;
     if (const std::string problem = render::validateCamera(camera); !problem.empty())
-        throw CLI::ValidationError("camera", problem);
+        throw std::invalid_argument(problem);
 
     const std::string name = scene ? scene->name : fs::path(args.plyDirectory).filename().string();
     const fs::path out =

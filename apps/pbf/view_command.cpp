@@ -3,6 +3,7 @@
 
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,7 @@ struct ViewArguments {
 int runView(const ViewArguments& args) {
     if (const std::string problem = render::validateResolution(args.width, args.height);
         !problem.empty())
-        throw CLI::ValidationError("--width/--height", problem.substr(problem.find(':') + 2));
+        throw std::invalid_argument(problem);
     std::vector<SceneOverride> overrides;
     for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
     const Scene scene = loadScene(args.scene, overrides);
