@@ -1,6 +1,7 @@
 // `pbf view SCENE`: the interactive viewer (needs a display; see `pbf render`).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -36,7 +37,9 @@ int runView(const ViewArguments& args) {
     std::vector<SceneOverride> overrides;
     for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
     const Scene scene = loadScene(args.scene, overrides);
-    if (args.threads > 0) setThreadCount(args.threads);
+    // One core stays free for the window: an oversubscribed OpenMP team
+    // (simulation threads + the UI thread + llvmpipe's) waits at every barrier.
+    setThreadCount(args.threads > 0 ? args.threads : std::max(1, hardwareThreadCount() - 1));
 
     render::ViewerOptions options;
     options.width = args.width;
@@ -76,7 +79,8 @@ std::function<int()> addViewCommand(CLI::App& app) {
     cmd->add_option("--frames", args->frames,
                     "Frames to simulate before the screenshot (default 1)")
         ->check(CLI::Range(1, 1000000));
-    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")
+    cmd->add_option("-t,--threads", args->threads,
+                    "Simulation threads (default: all cores but one)")
         ->check(CLI::Range(1, 1024));
     cmd->add_option("-s,--set", args->overrides,
                     "Override a scene field, e.g. --set solver.iterations=8")

@@ -166,7 +166,13 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     int settledFrames = 0;  // batch: frames drawn after the simulation reached its frame count
     auto lastFrame = Clock::now();
     while (!glfwWindowShouldClose(window.handle)) {
-        glfwPollEvents();
+        // At most ~60 UI frames per second (no vsync under Xvfb or with some
+        // drivers): the drawing must not take the simulation's cores.
+        const double sinceLast = std::chrono::duration<double>(Clock::now() - lastFrame).count();
+        if (sinceLast < 1.0 / 60.0)
+            glfwWaitEventsTimeout(1.0 / 60.0 - sinceLast);
+        else
+            glfwPollEvents();
         const auto t0 = Clock::now();
         panel.uiFps =
             float(1.0 / std::max(1e-6, std::chrono::duration<double>(t0 - lastFrame).count()));

@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 namespace pbf::render {
@@ -31,9 +32,10 @@ void drawColorBar(const RenderSettings& s) {
     }
     ImGui::Dummy(ImVec2(width, height));
     ImGui::Text("%.3g", double(s.rangeMin));
-    const std::string mid = std::to_string(0.5 * double(s.rangeMin + s.rangeMax)).substr(0, 6);
-    ImGui::SameLine(width * 0.5f - 10.0f);
-    ImGui::Text("%s", mid.c_str());
+    char mid[32];
+    std::snprintf(mid, sizeof mid, "%.3g", 0.5 * double(s.rangeMin + s.rangeMax));
+    ImGui::SameLine(0.5f * (width - ImGui::CalcTextSize(mid).x));
+    ImGui::Text("%s", mid);
     char high[32];
     std::snprintf(high, sizeof high, "%.3g", double(s.rangeMax));
     ImGui::SameLine(width - ImGui::CalcTextSize(high).x);
@@ -104,7 +106,11 @@ void drawStatistics(const PanelState& state, const SimulationWorker& worker, con
 
 void drawPanel(PanelState& state, SimulationWorker& worker, const Snapshot& snapshot) {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+    // Narrow, see-through and never taller than the window: the water stays visible.
+    ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(200, 0),
+                                        ImVec2(600, ImGui::GetIO().DisplaySize.y - 20.0f));
+    ImGui::SetNextWindowBgAlpha(0.7f);
     ImGui::Begin("pbf");
     drawControls(state, worker);
     drawColorBar(*state.settings);
