@@ -86,9 +86,10 @@ Aabb boundingBox(const ParticleFrame& frame) {
 }
 
 int runRender(const RenderArguments& args) {
-    if (args.scene.empty() == args.plyDirectory.empty())
-        throw CLI::ValidationError(
-            "scene", "give either a scene file or --ply DIR (a directory of PLY frames)");
+    if (args.scene.empty() && args.plyDirectory.empty())
+        throw std::invalid_argument(
+            "give a scene file to simulate, or --ply DIR (a directory of PLY frames)");
+    const bool simulate = args.plyDirectory.empty();
     if (const std::string problem = render::validateResolution(args.width, args.height);
         !problem.empty())
         throw std::invalid_argument(problem);
@@ -147,8 +148,8 @@ int runRender(const RenderArguments& args) {
             : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, args.style);
     fs::create_directories(out);
 
-    const int total =
-        scene ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1 : int(plyFiles.size());
+    const int total = simulate ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1
+                               : int(plyFiles.size());
     const double fps = scene ? scene->output.fps : 30.0;
     if (args.threads > 0) setThreadCount(args.threads);
 
@@ -164,7 +165,7 @@ int runRender(const RenderArguments& args) {
                    context.rendererName(), out.string());
 
     std::unique_ptr<Simulation> simulation;
-    if (scene) simulation = std::make_unique<Simulation>(*scene);
+    if (simulate) simulation = std::make_unique<Simulation>(*scene);
     ProgressBar progress("rendering", total, !args.quiet);
     double simulateSeconds = 0.0, renderSeconds = 0.0;
     for (int frame = 0; frame < total; ++frame) {
@@ -225,7 +226,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         "render",
         "Render PNG frames and an MP4 video without a display (EGL), from a scene or PLY frames");
     cmd->add_option("scene", args->scene,
-                    "Scene to simulate and render (JSON, see docs/scenes.md)");
+                    "Scene to simulate and render (JSON, see docs/scenes.md); with --ply "
+                    "only its domain, particle radius and colour range are used");
     cmd->add_option("--ply", args->plyDirectory,
                     "Render the frame_NNNNN.ply files of this directory instead");
     cmd->add_option("-o,--out", args->out, "Output directory (default: out/<name>_<style>)");
