@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -66,9 +65,19 @@ std::vector<fs::path> plyFrames(const fs::path& directory) {
     if (!fs::is_directory(directory))
         throw IoError(directory.string() + ": not a directory of PLY frames");
     std::vector<fs::path> files;
-    const std::regex name(R"(frame_\d+\.ply)");
+    // frame_<digits>.ply (std::regex trips GCC 12's -Wmaybe-uninitialized under ASan).
+    const auto isFrame = [](const std::string& name) {
+        const std::string prefix = "frame_", suffix = ".ply";
+        if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+            !name.ends_with(suffix))
+            return false;
+        const std::string digits =
+            name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+        return std::all_of(digits.begin(), digits.end(),
+                           [](char c) { return c >= '0' && c <= '9'; });
+    };
     for (const auto& entry : fs::directory_iterator(directory))
-        if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), name))
+        if (entry.is_regular_file() && isFrame(entry.path().filename().string()))
             files.push_back(entry.path());
     std::sort(files.begin(), files.end());
     if (files.empty()) throw IoError(directory.string() + ": no frame_NNNNN.ply files");

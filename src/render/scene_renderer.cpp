@@ -55,6 +55,9 @@ View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
     return v;
 }
 
+// Depth-splat sphere radius of the liquid look, in particle radii.
+constexpr float kLiquidRadiusScale = 1.8f;
+
 }  // namespace
 
 struct SceneRenderer::Impl {
@@ -64,7 +67,7 @@ struct SceneRenderer::Impl {
     gl::Program sphereDepth{"liquid depth", shaders::kSphereVertex,
                             fragment({shaders::kSphereHit, shaders::kSphereDepthMain})};
     gl::Program sphereThickness{"liquid thickness", shaders::kSphereVertex,
-                                fragment({shaders::kSphereHit, shaders::kSphereThicknessMain})};
+                                shaders::kThicknessFragment};
     gl::Program skyProgram{"sky", shaders::kFullscreenVertex,
                            fragment({shaders::kSky, shaders::kSkyMain})};
     gl::Program floorProgram{"floor", shaders::kFloorVertex, shaders::kFloorFragment};
@@ -194,12 +197,14 @@ struct SceneRenderer::Impl {
         glDrawArrays(GL_LINES, 0, 24);
     }
 
-    void drawParticles(const gl::Program& program, const View& v) {
+    void drawParticles(const gl::Program& program, const View& v, float quadScale = 1.5f,
+                       float radiusScale = 1.0f) {
         if (count == 0) return;
         program.use();
         glUniformMatrix4fv(program.uniform("uView"), 1, GL_FALSE, glm::value_ptr(v.view));
         glUniformMatrix4fv(program.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
-        glUniform1f(program.uniform("uRadius"), radius);
+        glUniform1f(program.uniform("uRadius"), radius * radiusScale);
+        glUniform1f(program.uniform("uQuadScale"), quadScale);
         glBindVertexArray(particleVao);
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(count));  // the one draw call
     }
@@ -230,7 +235,9 @@ struct SceneRenderer::Impl {
         glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
-        drawParticles(sphereDepth, v);
+        // Spheres larger than the particles (as in FleX's renderer) close the
+        // gaps of a disordered surface before smoothing.
+        drawParticles(sphereDepth, v, 1.5f, kLiquidRadiusScale);
 
         // 2. Thickness: all spheres added, no depth test.
         glBindFramebuffer(GL_FRAMEBUFFER, thicknessFbo.id());
@@ -238,13 +245,13 @@ struct SceneRenderer::Impl {
         glDisable(GL_DEPTH_TEST);
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
-        drawParticles(sphereThickness, v);
+        drawParticles(sphereThickness, v, 4.5f);  // the Gaussian's 3 sigma
         glDisable(GL_BLEND);
 
-        // 3. Bilateral smoothing, ping-pong A -> B (horizontal) -> A (vertical).
+        // 3. Bilateral smoothing; each iteration is two passes, A -> B -> A.
         bilateral.use();
         glUniform1f(bilateral.uniform("uPixelsPerMetre"), v.pixelsPerMetre);
-        glUniform1f(bilateral.uniform("uRadius"), radius);
+        glUniform1f(bilateral.uniform("uRadius"), radius * kLiquidRadiusScale);
         glBindVertexArray(emptyVao);
         for (int i = 0; i < s.smoothingIterations; ++i) {
             glBindFramebuffer(GL_FRAMEBUFFER, depthFboB.id());

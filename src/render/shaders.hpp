@@ -38,6 +38,7 @@ layout(location = 0) in vec4 aParticle;  // x, y, z, colour value
 uniform mat4 uView;
 uniform mat4 uProj;
 uniform float uRadius;
+uniform float uQuadScale;  // quad half-size in radii
 out vec3 vViewPos;
 flat out vec3 vCenter;
 flat out float vValue;
@@ -47,7 +48,7 @@ void main() {
     vCenter = center.xyz;
     vValue = aParticle.w;
     // Larger than the sphere: off the view axis its perspective outline is wider than r.
-    vViewPos = center.xyz + vec3(corner * uRadius * 1.5, 0.0);
+    vViewPos = center.xyz + vec3(corner * uRadius * uQuadScale, 0.0);
     gl_Position = uProj * vec4(vViewPos, 1.0);
 }
 )";
@@ -109,15 +110,24 @@ void main() {
 }
 )";
 
-// Liquid pass 2: thickness, the chords through all spheres added up
-// (additive blending), scaled to metres of water: a sphere of radius r
-// stands for a cube of side 2r, 8 / (4 pi / 3) times its volume.
-inline constexpr const char* kSphereThicknessMain = R"(
+// Liquid pass 2: thickness, added up over all particles (additive blending,
+// no depth test). Each particle is a Gaussian splat of standard deviation
+// 1.5 r in the view plane whose integral is the particle's volume (2r)^3, so
+// the sum is metres of water along the ray and smooth, not dotted like a sum
+// of sphere chords would be (van der Laan et al. 2009 also splat Gaussians).
+inline constexpr const char* kThicknessFragment = R"(#version 330 core
+uniform float uRadius;
+in vec3 vViewPos;
+flat in vec3 vCenter;
 out float outThickness;
 void main() {
-    vec3 p, n; float chord;
-    if (!hitSphere(p, n, chord)) discard;
-    outThickness = chord * 1.9099;
+    // Distance from the particle centre in its view-plane quad.
+    vec2 d = (vViewPos.xy - vCenter.xy) / uRadius;
+    float sigma = 1.5;
+    float rho2 = dot(d, d);
+    if (rho2 > 9.0 * sigma * sigma) discard;
+    float amplitude = 8.0 * uRadius / (2.0 * 3.14159265 * sigma * sigma);
+    outThickness = amplitude * exp(-0.5 * rho2 / (sigma * sigma));
 }
 )";
 
@@ -174,13 +184,17 @@ out vec4 outColor;
 void main() { outColor = vec4(uColor, 1.0); }
 )";
 
-// Liquid pass 3: separable bilateral filter of the linear depth. Spatial
-// Gaussian about two particle radii wide on screen; the range term keeps
-// depth discontinuities (one sheet of water in front of another) sharp.
-// Background texels (depth 0) are never mixed in.
+// Liquid pass 3: smoothing of the linear depth, one 1D pass (horizontal or
+// vertical). A narrow-range filter after Truong & Yuksel 2018 ("A
+// Narrow-Range Filter for Screen-Space Fluid Rendering", I3D): a Gaussian
+// about three splat radii wide on screen, in which samples of another surface
+// far behind are left out and samples far in front are clamped to the narrow
+// range around this pixel's depth, so sheets of water stay apart and lone
+// drops in front do not pull the surface. Background texels (depth 0) are
+// never mixed in, so the silhouette does not spread.
 inline constexpr const char* kBilateralMain = R"(
 uniform sampler2D uDepth;
-uniform ivec2 uStep;
+uniform ivec2 uStep;            // (1, 0) horizontal pass, (0, 1) vertical pass
 uniform float uPixelsPerMetre;  // at depth 1 m
 uniform float uRadius;
 out float outDepth;
@@ -189,18 +203,20 @@ void main() {
     ivec2 pix = ivec2(gl_FragCoord.xy);
     float z = texelFetch(uDepth, pix, 0).r;
     if (z <= 0.0) { outDepth = 0.0; return; }
-    float radiusPx = clamp(uPixelsPerMetre * 5.0 * uRadius / z, 1.0, 24.0);
-    float sigma = max(radiusPx * 0.5, 0.5);
-    float sigmaZ = 3.0 * uRadius;
+    float radiusPx = clamp(uPixelsPerMetre * 3.0 * uRadius / z, 1.0, 32.0);
+    float sigma = 0.5 * radiusPx;
+    float range = 2.0 * uRadius;
     int n = int(ceil(radiusPx));
     float sum = 0.0;
     float weights = 0.0;
     for (int i = -n; i <= n; ++i) {
         ivec2 q = clamp(pix + i * uStep, ivec2(0), size - 1);
         float s = texelFetch(uDepth, q, 0).r;
-        if (s <= 0.0) continue;
-        float dz = (s - z) / sigmaZ;
-        float w = exp(-float(i * i) / (2.0 * sigma * sigma) - dz * dz);
+        // Narrow range: another surface far behind is left out; samples far
+        // in front are clamped to the range instead of dominating.
+        if (s <= 0.0 || s > z + range) continue;
+        s = max(s, z - range);
+        float w = exp(-float(i * i) / (2.0 * sigma * sigma));
         sum += s * w;
         weights += w;
     }
@@ -267,7 +283,7 @@ void main() {
     vec3 transmitted = exp(-uAbsorption * thickness);
     vec3 refracted = behind * transmitted + uScatter * (1.0 - transmitted);
     float specular = pow(max(dot(n, normalize(uLightView + v)), 0.0), 120.0);
-    outColor = vec4(mix(refracted, reflected, fresnel) + vec3(0.8 * specular), 1.0);
+    outColor = vec4(mix(refracted, reflected, fresnel) + vec3(0.5 * specular), 1.0);
     vec4 clip = uProj * vec4(p, 1.0);
     gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
 }

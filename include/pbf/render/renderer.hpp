@@ -44,8 +44,8 @@ struct RenderSettings {
     float rangeMax = 1.0f;
     std::array<float, 3> flatColor{0.25f, 0.5f, 0.95f};
     bool drawBox = true;
-    // Liquid look: bilateral filter passes (each a horizontal + vertical pass).
-    int smoothingIterations = 4;
+    // Liquid look: bilateral filter iterations (each two 2D passes), [0, 10].
+    int smoothingIterations = 3;
 };
 
 // The colour map's range that suits a scene: speed from 0 to the free-fall
