@@ -72,8 +72,8 @@ struct SceneRenderer::Impl {
                            fragment({shaders::kSky, shaders::kSkyMain})};
     gl::Program floorProgram{"floor", shaders::kFloorVertex, shaders::kFloorFragment};
     gl::Program lineProgram{"lines", shaders::kFloorVertex, shaders::kLineFragment};
-    gl::Program bilateral{"bilateral filter", shaders::kFullscreenVertex,
-                          fragment({shaders::kBilateralMain})};
+    gl::Program smoothing{"depth smoothing", shaders::kFullscreenVertex,
+                          fragment({shaders::kSmoothingMain})};
     gl::Program composite{"liquid composite", shaders::kFullscreenVertex,
                           fragment({shaders::kSky, shaders::kCompositeMain})};
 
@@ -248,19 +248,19 @@ struct SceneRenderer::Impl {
         drawParticles(sphereThickness, v, 4.5f);  // the Gaussian's 3 sigma
         glDisable(GL_BLEND);
 
-        // 3. Bilateral smoothing; each iteration is two passes, A -> B -> A.
-        bilateral.use();
-        glUniform1f(bilateral.uniform("uPixelsPerMetre"), v.pixelsPerMetre);
-        glUniform1f(bilateral.uniform("uRadius"), radius * kLiquidRadiusScale);
+        // 3. Depth smoothing; each iteration is two passes, A -> B (horizontal) -> A (vertical).
+        smoothing.use();
+        glUniform1f(smoothing.uniform("uPixelsPerMetre"), v.pixelsPerMetre);
+        glUniform1f(smoothing.uniform("uRadius"), radius * kLiquidRadiusScale);
         glBindVertexArray(emptyVao);
         for (int i = 0; i < s.smoothingIterations; ++i) {
             glBindFramebuffer(GL_FRAMEBUFFER, depthFboB.id());
-            gl::bindTexture(bilateral, "uDepth", 0, depthA.id());
-            glUniform2i(bilateral.uniform("uStep"), 1, 0);
+            gl::bindTexture(smoothing, "uDepth", 0, depthA.id());
+            glUniform2i(smoothing.uniform("uStep"), 1, 0);
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
-            gl::bindTexture(bilateral, "uDepth", 0, depthB.id());
-            glUniform2i(bilateral.uniform("uStep"), 0, 1);
+            gl::bindTexture(smoothing, "uDepth", 0, depthB.id());
+            glUniform2i(smoothing.uniform("uStep"), 0, 1);
             glDrawArrays(GL_TRIANGLES, 0, 3);
         }
 

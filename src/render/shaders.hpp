@@ -192,7 +192,7 @@ void main() { outColor = vec4(uColor, 1.0); }
 // range around this pixel's depth, so sheets of water stay apart and lone
 // drops in front do not pull the surface. Background texels (depth 0) are
 // never mixed in, so the silhouette does not spread.
-inline constexpr const char* kBilateralMain = R"(
+inline constexpr const char* kSmoothingMain = R"(
 uniform sampler2D uDepth;
 uniform ivec2 uStep;            // (1, 0) horizontal pass, (0, 1) vertical pass
 uniform float uPixelsPerMetre;  // at depth 1 m

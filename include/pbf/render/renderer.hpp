@@ -8,7 +8,7 @@
 //    density or a flat colour.
 //  * Liquid: screen-space fluid rendering (van der Laan, Green & Sainz 2009,
 //    "Screen Space Fluid Rendering with Curvature Flow", I3D): sphere depth
-//    splats, a bilateral filter on the depth, additive thickness, then a
+//    splats, a narrow-range filter on the depth, additive thickness, then a
 //    composite with normals from the smoothed depth, Fresnel reflection of
 //    the sky, and refraction of the background attenuated by the thickness
 //    (Beer-Lambert). Algorithm notes in docs/rendering.md.
@@ -44,7 +44,7 @@ struct RenderSettings {
     float rangeMax = 1.0f;
     std::array<float, 3> flatColor{0.25f, 0.5f, 0.95f};
     bool drawBox = true;
-    // Liquid look: bilateral filter iterations (each two 2D passes), [0, 10].
+    // Liquid look: depth smoothing iterations (each a horizontal and a vertical pass), [0, 10].
     int smoothingIterations = 3;
 };
 
