@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <numbers>
 #include <string>
 
 #include "pbf/render/headless.hpp"
@@ -137,6 +138,21 @@ RenderParticles toRenderParticles(const Snapshot& s, ColorMode mode) {
     return out;
 }
 
+// The panel covers the left kPanelWidth pixels: frame the domain in the
+// rest of the window, then pan so that it sits in the middle of that rest.
+OrbitCamera defaultViewerCamera(const Aabb& domain, const ViewerOptions& options) {
+    if (options.camera) return OrbitCamera(*options.camera);
+    constexpr float kPanelWidth = 320.0f;
+    const float free = std::max(float(options.width) - kPanelWidth, 0.5f * float(options.width));
+    const Camera framed = frameBox(domain, free / float(options.height));
+    OrbitCamera camera(framed);
+    const float halfHeightAtTarget =
+        std::tan(0.5f * framed.fovY * std::numbers::pi_v<float> / 180.0f);
+    const float shiftPixels = 0.5f * (float(options.width) - free);
+    camera.pan(-shiftPixels / (0.5f * float(options.height)) * halfHeightAtTarget, 0.0f);
+    return camera;
+}
+
 }  // namespace
 
 ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
@@ -145,8 +161,7 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     SceneRenderer renderer;
     renderer.setDomain(scene.simulation.domain);
     renderer.setParticleRadius(scene.simulation.particleRadius);
-    OrbitCamera camera(options.camera.value_or(
-        frameBox(scene.simulation.domain, float(options.width) / float(options.height))));
+    OrbitCamera camera = defaultViewerCamera(scene.simulation.domain, options);
 
     RenderSettings settings = options.settings;
     PanelState panel;
