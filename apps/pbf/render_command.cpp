@@ -18,6 +18,7 @@
 #include "pbf/io.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/headless.hpp"
+#include "pbf/render/overlay.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
@@ -46,6 +47,7 @@ struct RenderArguments {
     std::string range;
     bool noVideo = false;
     bool noBox = false;
+    bool noColorBar = false;
     int threads = 0;
     std::vector<std::string> overrides;
     bool quiet = false;
@@ -167,6 +169,8 @@ int runRender(const RenderArguments& args) {
     renderer.setDomain(domain);
     renderer.setParticleRadius(radius);
     render::OffscreenTarget target(args.width, args.height);
+    std::unique_ptr<render::ColorBarOverlay> colorBar;
+    if (!args.noColorBar) colorBar = std::make_unique<render::ColorBarOverlay>();
     if (!args.quiet)
         fmt::print(stderr,
                    "pbf render: {} frames of {}, {}x{}, {} look, colour by {}, on {} -> {}\n",
@@ -191,6 +195,7 @@ int runRender(const RenderArguments& args) {
         const auto t1 = Clock::now();
         renderer.upload(particles);
         renderer.render(target.framebuffer(), args.width, args.height, camera, settings);
+        if (colorBar) colorBar->draw(target.framebuffer(), args.width, args.height, settings);
         render::writePng(out / fmt::format("frame_{:05d}.png", frame), target.read());
         const auto t2 = Clock::now();
         simulateSeconds += std::chrono::duration<double>(t1 - t0).count();
@@ -262,6 +267,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Colour map range MIN,MAX (m/s or kg/m^3; default from the scene)");
     cmd->add_flag("--no-video", args->noVideo, "Only PNG frames, no MP4");
     cmd->add_flag("--no-box", args->noBox, "Do not draw the domain box");
+    cmd->add_flag("--no-color-bar", args->noColorBar,
+                  "No colour bar in the top-left corner (spheres coloured by speed or density)");
     cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
     cmd->add_option("-s,--set", args->overrides,
