@@ -12,6 +12,7 @@
 
 #include "pbf/render/camera.hpp"
 #include "pbf/render/headless.hpp"
+#include "pbf/render/overlay.hpp"
 #include "pbf/render/renderer.hpp"
 #include "test_util.hpp"
 
@@ -159,6 +160,39 @@ TEST_F(HeadlessRenderTest, PngRoundTrip) {
     EXPECT_TRUE(std::equal(image.rgba.begin(), image.rgba.end(), pixels));
     stbi_image_free(pixels);
     std::filesystem::remove(path);
+}
+
+TEST_F(HeadlessRenderTest, ColorBarOverlayDrawsInTheTopLeftCornerOnly) {
+    RenderSettings settings;
+    const RenderParticles particles = packParticles(createParticles(scene_), ColorMode::Speed);
+    const Image plain = render(particles, settings);
+    SceneRenderer renderer;
+    renderer.setDomain(scene_.simulation.domain);
+    renderer.setParticleRadius(scene_.simulation.particleRadius);
+    renderer.upload(particles);
+    OffscreenTarget target(kWidth, kHeight);
+    ColorBarOverlay overlay;
+    renderer.render(target.framebuffer(), kWidth, kHeight, camera_, settings);
+    overlay.draw(target.framebuffer(), kWidth, kHeight, settings);
+    const Image withBar = target.read();
+    int changedTopLeft = 0, changedElsewhere = 0;
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+            // The overlay: 8 px from the corner, 45 % of the width, three lines high.
+            const bool topLeft = x < 130 && y < 90;
+            (topLeft ? changedTopLeft : changedElsewhere) +=
+                difference(withBar, plain, x, y) > 0 ? 1 : 0;
+        }
+    EXPECT_GT(changedTopLeft, 500);
+    EXPECT_EQ(changedElsewhere, 0);
+    // Flat colours have no colour bar.
+    settings.color = ColorMode::Flat;
+    renderer.render(target.framebuffer(), kWidth, kHeight, camera_, settings);
+    overlay.draw(target.framebuffer(), kWidth, kHeight, settings);
+    const Image flat = target.read();
+    const Image flatPlain =
+        render(packParticles(createParticles(scene_), ColorMode::Flat), settings);
+    EXPECT_TRUE(flat.rgba == flatPlain.rgba);
 }
 
 TEST(Camera, ValidationNamesTheField) {
