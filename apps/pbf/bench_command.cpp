@@ -48,8 +48,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     scene.simulation.solver.iterations = args.iterations;
     if (const std::string problem = validate(scene.simulation); !problem.empty())
         throw SceneError(fmt::format("size {}: {}", target, problem));
-    if (const std::size_t available = availableMemoryBytes(); available > 0)
-        checkMemory(scene, available);
+    if (const std::size_t available = availableMemoryBytes(); available > 0) checkMemory(scene, available);
 
     Simulation simulation(scene);
     ParticleStore& particles = simulation.particles();
@@ -91,8 +90,7 @@ std::vector<std::size_t> parseSizes(const std::string& text) {
         in >> value >> suffix;
         if (suffix == 'k' || suffix == 'K') value *= 1e3;
         if (suffix == 'm' || suffix == 'M') value *= 1e6;
-        if (!(value >= 100 && value <= 1e9))
-            throw CLI::ValidationError("--sizes", "sizes must be in [100, 1e9]: " + part);
+        if (!(value >= 100 && value <= 1e9)) throw CLI::ValidationError("--sizes", "sizes must be in [100, 1e9]: " + part);
         sizes.push_back(static_cast<std::size_t>(value));
     }
     return sizes;
@@ -103,26 +101,21 @@ int runBench(const BenchArguments& args) {
     const Scene base = loadScene(args.scene);
     fmt::print("pbf bench: scene {}, {} iterations, {} timed steps after {} warm-up, {} threads\n",
                args.scene, args.iterations, args.steps, args.warmup, threadCount());
-    fmt::print("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>14} {:>8} {:>8}\n", "particles",
-               "step_ms", "predict", "neighbors", "solve", "post", "particle-st/s", "nbrs",
-               "B/part");
+    fmt::print("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>14} {:>8} {:>8}\n", "particles", "step_ms",
+               "predict", "neighbors", "solve", "post", "particle-st/s", "nbrs", "B/part");
     std::vector<std::string> machineLines;
     for (const std::size_t size : args.sizes) {
         const BenchResult r = benchOneSize(base, size, args);
         const double rate = double(r.particles) / (r.stepMs * 1e-3);
-        fmt::print(
-            "{:>10} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>14.3e} {:>8.1f} "
-            "{:>8.0f}\n",
-            r.particles, r.stepMs, r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
-            r.perStep.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
-        machineLines.push_back(
-            fmt::format("pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
-                        "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
-                        "solve_ms={:.3f} post_ms={:.3f} "
-                        "bytes_per_particle={:.0f}",
-                        r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate,
-                        r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
-                        r.perStep.postProcess, r.bytesPerParticle));
+        fmt::print("{:>10} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>14.3e} {:>8.1f} {:>8.0f}\n",
+                   r.particles, r.stepMs, r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
+                   r.perStep.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
+        machineLines.push_back(fmt::format(
+            "pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
+            "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} solve_ms={:.3f} post_ms={:.3f} "
+            "bytes_per_particle={:.0f}",
+            r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate, r.perStep.predict,
+            r.perStep.neighborSearch, r.perStep.solve, r.perStep.postProcess, r.bytesPerParticle));
     }
     for (const std::string& line : machineLines) fmt::print("{}\n", line);
     return 0;
@@ -134,22 +127,15 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     auto args = std::make_shared<BenchArguments>();
     auto sizes = std::make_shared<std::string>("16k,128k,512k");
     args->scene = defaultScenePath("dam_break.json");
-    CLI::App* bench = app.add_subcommand(
-        "bench", "Measure solver throughput (particle-steps per second) on the dam break");
+    CLI::App* bench = app.add_subcommand("bench", "Measure solver throughput (particle-steps per second) on the dam break");
     bench->add_option("--scene", args->scene, "Scene to scale (default: scenes/dam_break.json)");
     bench->add_option("--sizes", *sizes, "Comma-separated particle counts, k/M suffixes allowed")
         ->capture_default_str();
-    bench->add_option("--steps", args->steps, "Timed steps per size")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    bench->add_option("--warmup", args->warmup, "Untimed steps first")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
+    bench->add_option("--steps", args->steps, "Timed steps per size")->check(CLI::Range(1, 100000))->capture_default_str();
+    bench->add_option("--warmup", args->warmup, "Untimed steps first")->check(CLI::Range(0, 100000))->capture_default_str();
     bench->add_option("-i,--iterations", args->iterations, "Density iterations per step")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
-        ->check(CLI::Range(1, 1024));
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
     return [args, sizes] {
         args->sizes = parseSizes(*sizes);
         return runBench(*args);

@@ -32,8 +32,7 @@ int runScene(const RunArguments& args) {
     if (!args.out.empty()) scene.output.directory = args.out;
     if (args.noParticles) scene.output.writeParticles = false;
     if (args.threads > 0) setThreadCount(args.threads);
-    if (const std::size_t available = availableMemoryBytes(); available > 0)
-        checkMemory(scene, available);
+    if (const std::size_t available = availableMemoryBytes(); available > 0) checkMemory(scene, available);
 
     const std::size_t particles = countParticles(scene);
     if (!args.quiet)
@@ -46,21 +45,19 @@ int runScene(const RunArguments& args) {
     options.frames = scene.output.frames;
     options.writeParticles = scene.output.writeParticles;
     options.onFrame = [&](const FrameReport& r) {
-        progress.update(r.frame,
-                        fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
-                                    r.substeps, r.stepMs, 100.0 * r.state.averageDensityError));
+        progress.update(r.frame, fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
+                                             r.substeps, r.stepMs, 100.0 * r.state.averageDensityError));
     };
     const RunSummary s = pbf::runScene(scene, options);
     progress.finish();
-    fmt::print(
-        "pbf run: {} frames, {} particles, {:.3f} s simulated in {:.1f} s wall, {} substeps, "
-        "{:.2f} M particle-steps/s, avg density error {:.2f} %, max {:.2f} %, escaped {} -> {}\n",
-        s.frames, s.particles, s.simulatedSeconds, s.wallSeconds, s.substeps,
-        s.particleStepsPerSecond * 1e-6, 100.0 * s.averageDensityError, 100.0 * s.maxDensityError,
-        s.maxEscaped, scene.output.directory);
+    fmt::print("pbf run: {} frames, {} particles, {:.3f} s simulated in {:.1f} s wall, {} substeps, "
+               "{:.2f} M particle-steps/s, avg density error {:.2f} %, max {:.2f} %, escaped {} -> {}\n",
+               s.frames, s.particles, s.simulatedSeconds, s.wallSeconds, s.substeps,
+               s.particleStepsPerSecond * 1e-6, 100.0 * s.averageDensityError, 100.0 * s.maxDensityError,
+               s.maxEscaped, scene.output.directory);
     if (s.maxEscaped > 0) {
-        printError(fmt::format("{} particles left the domain (a solver bug): see {}/stats.csv",
-                               s.maxEscaped, scene.output.directory));
+        printError(fmt::format("{} particles left the domain (a solver bug): see {}/stats.csv", s.maxEscaped,
+                               scene.output.directory));
         return 3;
     }
     return 0;
@@ -70,19 +67,15 @@ int runScene(const RunArguments& args) {
 
 std::function<int()> addRunCommand(CLI::App& app) {
     auto args = std::make_shared<RunArguments>();
-    CLI::App* run = app.add_subcommand(
-        "run", "Simulate a scene and write PLY frames, stats.csv and summary.json");
+    CLI::App* run = app.add_subcommand("run", "Simulate a scene and write PLY frames, stats.csv and summary.json");
     run->add_option("scene", args->scene, "Scene file (JSON, see docs/scenes.md)")->required();
-    run->add_option("-o,--out", args->out,
-                    "Output directory (default: the scene's output.directory)");
-    run->add_option("-f,--frames", args->frames,
-                    "Number of frames to simulate (overrides output.frames)")
+    run->add_option("-o,--out", args->out, "Output directory (default: the scene's output.directory)");
+    run->add_option("-f,--frames", args->frames, "Number of frames to simulate (overrides output.frames)")
         ->check(CLI::Range(1, 1000000));
     run->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    run->add_option(
-           "-s,--set", args->overrides,
-           "Override a scene field, e.g. --set solver.iterations=8 --set fluid.viscosity=0.02")
+    run->add_option("-s,--set", args->overrides,
+                    "Override a scene field, e.g. --set solver.iterations=8 --set fluid.viscosity=0.02")
         ->take_all();
     run->add_flag("--no-particles", args->noParticles, "Do not write PLY frames (stats only)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
