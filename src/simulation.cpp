@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace pbf {
 
@@ -11,6 +13,16 @@ Simulation::Simulation(const Scene& scene)
       particles_(createParticles(scene, solids_.get(), &skipped_)),
       solver_(scene.simulation, solids_) {
     for (const EmitterDescription& e : scene.emitters) emitters_.emplace_back(e, scene.simulation);
+}
+
+void Simulation::setParams(const SimulationParams& params) {
+    if (const std::string problem = validate(params); !problem.empty()) throw SceneError(problem);
+    try {
+        solver_.setParams(params);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
+    }
+    scene_.simulation = params;  // the adaptive substep reads cfl and limits from here
 }
 
 double Simulation::adaptiveSubstep(double remaining) const {

@@ -10,5 +10,9 @@ namespace pbf::cli {
 // Registers the subcommand and returns the function that runs it after parsing.
 std::function<int()> addRunCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
+#ifdef PBF_HAVE_RENDER
+std::function<int()> addViewCommand(CLI::App& app);
+std::function<int()> addRenderCommand(CLI::App& app);
+#endif
 
 }  // namespace pbf::cli

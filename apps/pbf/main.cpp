@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     const auto run = pbf::cli::addRunCommand(app);
     const auto bench = pbf::cli::addBenchCommand(app);
+#ifdef PBF_HAVE_RENDER
+    const auto view = pbf::cli::addViewCommand(app);
+    const auto render = pbf::cli::addRenderCommand(app);
+#endif
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -20,6 +24,10 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("run")) return run();
         if (app.got_subcommand("bench")) return bench();
+#ifdef PBF_HAVE_RENDER
+        if (app.got_subcommand("view")) return view();
+        if (app.got_subcommand("render")) return render();
+#endif
     } catch (const std::exception& e) {
         pbf::cli::printError(e.what());
         return 1;

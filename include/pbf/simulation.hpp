@@ -43,6 +43,12 @@ class Simulation {
     const std::vector<Emitter>& emitters() const { return emitters_; }
     const SolidSet* solids() const { return solids_.get(); }
 
+    // Changes parameters between frames (iterations, CFL, viscosity, vorticity,
+    // s_corr, ...: what Solver::setParams allows; the viewer's live panel).
+    // Throws SceneError when validate() rejects them or when they change the
+    // domain, particle radius or kernel factor.
+    void setParams(const SimulationParams& params);
+
     // Simulates one output frame (1 / fps seconds) and reports on it.
     FrameReport advanceFrame();
     // Statistics of the current state (frame 0 before any step).

@@ -1,0 +1,281 @@
+// `pbf render`: images (PNG) and video (MP4 through ffmpeg) without a display,
+// from a scene (simulate and render) or a directory of PLY frames.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "console.hpp"
+#include "pbf/io.hpp"
+#include "pbf/render/camera.hpp"
+#include "pbf/render/headless.hpp"
+#include "pbf/render/overlay.hpp"
+#include "pbf/render/renderer.hpp"
+#include "pbf/render/video.hpp"
+#include "pbf/run.hpp"
+#include "pbf/scene.hpp"
+#include "pbf/simulation.hpp"
+#include "pbf/threading.hpp"
+
+namespace pbf::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct RenderArguments {
+    std::string scene;
+    std::string plyDirectory;
+    std::string out;
+    int frames = -1;
+    int width = 960;
+    int height = 540;
+    std::string cameraPosition;
+    std::string cameraTarget;
+    float fov = 40.0f;
+    std::string style = "spheres";
+    std::string color = "speed";
+    std::string range;
+    bool noVideo = false;
+    bool noBox = false;
+    bool noColorBar = false;
+    int threads = 0;
+    std::vector<std::string> overrides;
+    bool quiet = false;
+};
+
+Vec3 parseVec3(const std::string& option, const std::string& text) {
+    std::stringstream in(text);
+    Vec3 v;
+    char c1 = 0, c2 = 0;
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof() ||
+        !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        throw CLI::ValidationError(option, "expected three numbers X,Y,Z, got '" + text + "'");
+    return v;
+}
+
+std::vector<fs::path> plyFrames(const fs::path& directory) {
+    if (!fs::is_directory(directory))
+        throw IoError(directory.string() + ": not a directory of PLY frames");
+    std::vector<fs::path> files;
+    // frame_<digits>.ply (std::regex trips GCC 12's -Wmaybe-uninitialized under ASan).
+    const auto isFrame = [](const std::string& name) {
+        const std::string prefix = "frame_", suffix = ".ply";
+        if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+            !name.ends_with(suffix))
+            return false;
+        const std::string digits =
+            name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+        return std::all_of(digits.begin(), digits.end(),
+                           [](char c) { return c >= '0' && c <= '9'; });
+    };
+    for (const auto& entry : fs::directory_iterator(directory))
+        if (entry.is_regular_file() && isFrame(entry.path().filename().string()))
+            files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw IoError(directory.string() + ": no frame_NNNNN.ply files");
+    return files;
+}
+
+Aabb boundingBox(const ParticleFrame& frame) {
+    Aabb box{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    for (const Vec3& p : frame.position) {
+        box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
+        box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+    }
+    if (frame.position.empty()) box = Aabb{{0, 0, 0}, {1, 1, 1}};
+    return box;
+}
+
+int runRender(const RenderArguments& args) {
+    if (args.scene.empty() && args.plyDirectory.empty())
+        throw std::invalid_argument(
+            "give a scene file to simulate, or --ply DIR (a directory of PLY frames)");
+    const bool simulate = args.plyDirectory.empty();
+    if (const std::string problem = render::validateResolution(args.width, args.height);
+        !problem.empty())
+        throw std::invalid_argument(problem);
+    // Checked before frameBox uses it.
+    if (!(args.fov >= 1.0f && args.fov <= 170.0f))
+        throw std::invalid_argument(
+            fmt::format("camera.fov: must be in [1, 170] degrees, got {}", args.fov));
+
+    render::RenderSettings settings;
+    settings.style = render::parseStyle(args.style);
+    settings.color = render::parseColorMode(args.color);
+    settings.drawBox = !args.noBox;
+
+    // The scene gives domain, radius and colour range; PLY frames may come without one.
+    std::optional<Scene> scene;
+    if (!args.scene.empty()) {
+        std::vector<SceneOverride> overrides;
+        for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
+        scene = loadScene(args.scene, overrides);
+    }
+    std::vector<fs::path> plyFiles;
+    ParticleFrame firstFrame;
+    if (!args.plyDirectory.empty()) {
+        plyFiles = plyFrames(args.plyDirectory);
+        if (args.frames > 0 && std::size_t(args.frames) < plyFiles.size())
+            plyFiles.resize(std::size_t(args.frames));
+        firstFrame = readParticlesPly(plyFiles.front());
+    }
+    const SimulationParams params = scene ? scene->simulation : SimulationParams{};
+    const Aabb domain = scene ? params.domain : boundingBox(firstFrame);
+    float radius = params.particleRadius;
+    if (!scene) radius = 0.01f;  // the default lattice radius; PLY files carry no radius
+    render::setDefaultRange(settings, scene ? params : SimulationParams{});
+    if (!args.range.empty()) {
+        std::stringstream in(args.range);
+        char comma = 0;
+        if (!(in >> settings.rangeMin >> comma >> settings.rangeMax) || comma != ',' || !in.eof() ||
+            !(settings.rangeMax > settings.rangeMin))
+            throw CLI::ValidationError("--range",
+                                       "expected MIN,MAX with MIN < MAX, got '" + args.range + "'");
+    }
+
+    render::Camera camera =
+        render::frameBox(domain, float(args.width) / float(args.height), args.fov);
+    if (!args.cameraPosition.empty())
+        camera.position = parseVec3("--camera-position", args.cameraPosition);
+    if (!args.cameraTarget.empty()) camera.target = parseVec3("--camera-target", args.cameraTarget);
+    camera.fovY = args.fov;
+    if (const std::string problem = render::validateCamera(camera); !problem.empty())
+        throw std::invalid_argument(problem);
+
+    const std::string name = scene ? scene->name : fs::path(args.plyDirectory).filename().string();
+    const fs::path out =
+        !args.out.empty()
+            ? fs::path(args.out)
+            : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, args.style);
+    fs::create_directories(out);
+
+    const int total = simulate ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1
+                               : int(plyFiles.size());
+    const double fps = scene ? scene->output.fps : 30.0;
+    if (args.threads > 0) setThreadCount(args.threads);
+
+    render::HeadlessContext context;
+    render::SceneRenderer renderer;
+    renderer.setDomain(domain);
+    renderer.setParticleRadius(radius);
+    render::OffscreenTarget target(args.width, args.height);
+    std::unique_ptr<render::ColorBarOverlay> colorBar;
+    if (!args.noColorBar) colorBar = std::make_unique<render::ColorBarOverlay>();
+    if (!args.quiet)
+        fmt::print(stderr,
+                   "pbf render: {} frames of {}, {}x{}, {} look, colour by {}, on {} -> {}\n",
+                   total, name, args.width, args.height, args.style, args.color,
+                   context.rendererName(), out.string());
+
+    std::unique_ptr<Simulation> simulation;
+    if (simulate) simulation = std::make_unique<Simulation>(*scene);
+    ProgressBar progress("rendering", total, !args.quiet);
+    double simulateSeconds = 0.0, renderSeconds = 0.0;
+    for (int frame = 0; frame < total; ++frame) {
+        const auto t0 = Clock::now();
+        render::RenderParticles particles;
+        if (simulation) {
+            if (frame > 0) simulation->advanceFrame();
+            particles = render::packParticles(simulation->particles(), settings.color);
+        } else {
+            particles = render::packParticles(
+                frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]),
+                settings.color);
+        }
+        const auto t1 = Clock::now();
+        renderer.upload(particles);
+        renderer.render(target.framebuffer(), args.width, args.height, camera, settings);
+        if (colorBar) colorBar->draw(target.framebuffer(), args.width, args.height, settings);
+        render::writePng(out / fmt::format("frame_{:05d}.png", frame), target.read());
+        const auto t2 = Clock::now();
+        simulateSeconds += std::chrono::duration<double>(t1 - t0).count();
+        renderSeconds += std::chrono::duration<double>(t2 - t1).count();
+        progress.update(frame + 1, fmt::format("{} particles", particles.count()));
+    }
+    progress.finish();
+
+    std::string videoText = "no video (--no-video)";
+    int status = 0;
+    if (!args.noVideo && total > 1) {
+        const fs::path video = out / fmt::format("{}.mp4", name.empty() ? "frames" : name);
+        const render::VideoResult v = render::encodeVideo(out, fps, video);
+        if (v.written) {
+            videoText = "video " + video.string();
+        } else if (v.programMissing) {
+            // Not an error: the frames are the product, the video a convenience.
+            videoText = "no video (ffmpeg missing)";
+            fmt::print(stderr, "pbf: warning: {}\n", v.message);
+        } else {
+            videoText = "no video";
+            printError(v.message);
+            status = 4;
+        }
+    } else if (total <= 1) {
+        videoText = "no video (one frame)";
+    }
+    fmt::print(
+        "pbf render: {} frames {}x{} ({}) -> {}/frame_*.png, {}; {} {:.2f} s, "
+        "render {:.2f} s ({:.1f} ms per frame, PNG writing included)\n",
+        total, args.width, args.height, args.style, out.string(), videoText,
+        simulate ? "simulate" : "read PLY", simulateSeconds, renderSeconds,
+        1e3 * renderSeconds / total);
+    return status;
+}
+
+}  // namespace
+
+std::function<int()> addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArguments>();
+    CLI::App* cmd = app.add_subcommand(
+        "render",
+        "Render PNG frames and an MP4 video without a display (EGL), from a scene or PLY frames");
+    cmd->add_option("scene", args->scene,
+                    "Scene to simulate and render (JSON, see docs/scenes.md); with --ply "
+                    "only its domain, particle radius and colour range are used");
+    cmd->add_option("--ply", args->plyDirectory,
+                    "Render the frame_NNNNN.ply files of this directory instead");
+    cmd->add_option("-o,--out", args->out, "Output directory (default: out/<name>_<style>)");
+    cmd->add_option("-f,--frames", args->frames,
+                    "Scene: frames to simulate after the initial one (default: output.frames); "
+                    "PLY: at most this many files")
+        ->check(CLI::Range(0, 1000000));
+    cmd->add_option("--width", args->width, "Image width in pixels [16, 8192]")
+        ->capture_default_str();
+    cmd->add_option("--height", args->height, "Image height in pixels [16, 8192]")
+        ->capture_default_str();
+    cmd->add_option("--camera-position", args->cameraPosition,
+                    "Camera position X,Y,Z in metres (default: framing the domain)");
+    cmd->add_option("--camera-target", args->cameraTarget,
+                    "Point the camera looks at, X,Y,Z (default: domain centre)");
+    cmd->add_option("--fov", args->fov, "Vertical field of view in degrees [1, 170]")
+        ->capture_default_str();
+    cmd->add_option("--style", args->style, "spheres (impostors) or liquid (screen-space fluid)")
+        ->capture_default_str();
+    cmd->add_option("--color", args->color, "Sphere colour: speed, density or flat")
+        ->capture_default_str();
+    cmd->add_option("--range", args->range,
+                    "Colour map range MIN,MAX (m/s or kg/m^3; default from the scene)");
+    cmd->add_flag("--no-video", args->noVideo, "Only PNG frames, no MP4");
+    cmd->add_flag("--no-box", args->noBox, "Do not draw the domain box");
+    cmd->add_flag("--no-color-bar", args->noColorBar,
+                  "No colour bar in the top-left corner (spheres coloured by speed or density)");
+    cmd->add_option("-t,--threads", args->threads, "Simulation threads (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    cmd->add_option("-s,--set", args->overrides,
+                    "Override a scene field, e.g. --set solver.iterations=8")
+        ->take_all();
+    cmd->add_flag("-q,--quiet", args->quiet, "No progress bar");
+    return [args] { return runRender(*args); };
+}
+
+}  // namespace pbf::cli

@@ -1,0 +1,334 @@
+// SceneRenderer: the sphere and liquid looks (see renderer.hpp).
+#include <algorithm>
+#include <cmath>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "gl_util.hpp"
+#include "pbf/render/renderer.hpp"
+#include "shaders.hpp"
+
+namespace pbf::render {
+namespace {
+
+std::string fragment(std::initializer_list<const char*> parts) {
+    std::string source = "#version 330 core\n";
+    for (const char* part : parts) source += part;
+    return source;
+}
+
+glm::vec3 toGlm(const Vec3& v) {
+    return {v.x, v.y, v.z};
+}
+
+// Matrices and derived values of one camera at one aspect ratio.
+struct View {
+    glm::mat4 view;
+    glm::mat4 proj;
+    glm::mat3 viewToWorld;
+    glm::vec2 tanHalf;
+    glm::vec3 lightView;
+    float pixelsPerMetre;  // at 1 m depth
+};
+
+View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
+    View v{};
+    const float aspect = float(width) / float(height);
+    const float fov = camera.fovY * std::numbers::pi_v<float> / 180.0f;
+    v.view = glm::lookAt(toGlm(camera.position), toGlm(camera.target), glm::vec3(0.0f, 1.0f, 0.0f));
+    // Near and far planes bracket the domain (with a margin for the floor).
+    const float distance = glm::length(toGlm(camera.target) - toGlm(camera.position));
+    const float extent = glm::length(toGlm(domain.extent()));
+    const float farPlane = distance + 4.0f * extent + 1.0f;
+    const float nearPlane = std::max(1e-3f, farPlane * 1e-4f);
+    v.proj = glm::perspective(fov, aspect, nearPlane, farPlane);
+    v.viewToWorld = glm::transpose(glm::mat3(v.view));
+    v.tanHalf = {std::tan(0.5f * fov) * aspect, std::tan(0.5f * fov)};
+    v.lightView =
+        glm::normalize(glm::mat3(v.view) * glm::normalize(glm::vec3(0.35f, 0.85f, 0.45f)));
+    v.pixelsPerMetre = 0.5f * float(height) / v.tanHalf.y;
+    return v;
+}
+
+// Depth-splat sphere radius of the liquid look, in particle radii.
+constexpr float kLiquidRadiusScale = 1.8f;
+
+}  // namespace
+
+struct SceneRenderer::Impl {
+    gl::Program sphereShade{
+        "spheres", shaders::kSphereVertex,
+        fragment({shaders::kColorMap, shaders::kSphereHit, shaders::kSphereShadeMain})};
+    gl::Program sphereDepth{"liquid depth", shaders::kSphereVertex,
+                            fragment({shaders::kSphereHit, shaders::kSphereDepthMain})};
+    gl::Program sphereThickness{"liquid thickness", shaders::kSphereVertex,
+                                shaders::kThicknessFragment};
+    gl::Program skyProgram{"sky", shaders::kFullscreenVertex,
+                           fragment({shaders::kSky, shaders::kSkyMain})};
+    gl::Program floorProgram{"floor", shaders::kFloorVertex, shaders::kFloorFragment};
+    gl::Program lineProgram{"lines", shaders::kFloorVertex, shaders::kLineFragment};
+    gl::Program smoothing{"depth smoothing", shaders::kFullscreenVertex,
+                          fragment({shaders::kSmoothingMain})};
+    gl::Program composite{"liquid composite", shaders::kFullscreenVertex,
+                          fragment({shaders::kSky, shaders::kCompositeMain})};
+
+    GLuint particleVao = 0, particleVbo = 0;
+    GLuint emptyVao = 0;
+    GLuint boxVao = 0, boxVbo = 0;
+    GLuint floorVao = 0, floorVbo = 0;
+    std::size_t count = 0;
+    float radius = 0.01f;
+    Aabb domain{{0, 0, 0}, {1, 1, 1}};
+
+    // Liquid look targets, sized to the image.
+    int width = 0, height = 0;
+    gl::Texture backgroundColor, backgroundDepth, depthA, depthB, thickness, splatDepth;
+    gl::Framebuffer backgroundFbo, depthFboA, depthFboB, thicknessFbo;
+
+    Impl() {
+        glGenVertexArrays(1, &particleVao);
+        glGenBuffers(1, &particleVbo);
+        glBindVertexArray(particleVao);
+        glBindBuffer(GL_ARRAY_BUFFER, particleVbo);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+        glVertexAttribDivisor(0, 1);  // one particle per instance
+        glGenVertexArrays(1, &emptyVao);
+        glGenVertexArrays(1, &boxVao);
+        glGenBuffers(1, &boxVbo);
+        glGenVertexArrays(1, &floorVao);
+        glGenBuffers(1, &floorVbo);
+        for (const auto& [vao, vbo] : {std::pair{boxVao, boxVbo}, std::pair{floorVao, floorVbo}}) {
+            glBindVertexArray(vao);
+            glBindBuffer(GL_ARRAY_BUFFER, vbo);
+            glEnableVertexAttribArray(0);
+            glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
+        }
+        glBindVertexArray(0);
+        setDomain(domain);
+    }
+
+    ~Impl() {
+        glDeleteBuffers(1, &particleVbo);
+        glDeleteBuffers(1, &boxVbo);
+        glDeleteBuffers(1, &floorVbo);
+        glDeleteVertexArrays(1, &particleVao);
+        glDeleteVertexArrays(1, &emptyVao);
+        glDeleteVertexArrays(1, &boxVao);
+        glDeleteVertexArrays(1, &floorVao);
+    }
+
+    void setDomain(const Aabb& box) {
+        domain = box;
+        const Vec3 a = box.min, b = box.max;
+        const float corners[8][3] = {{a.x, a.y, a.z}, {b.x, a.y, a.z}, {b.x, b.y, a.z},
+                                     {a.x, b.y, a.z}, {a.x, a.y, b.z}, {b.x, a.y, b.z},
+                                     {b.x, b.y, b.z}, {a.x, b.y, b.z}};
+        const int edges[24] = {0, 1, 1, 2, 2, 3, 3, 0, 4, 5, 5, 6,
+                               6, 7, 7, 4, 0, 4, 1, 5, 2, 6, 3, 7};
+        std::vector<float> lines;
+        for (const int e : edges) lines.insert(lines.end(), corners[e], corners[e] + 3);
+        glBindBuffer(GL_ARRAY_BUFFER, boxVbo);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(lines.size() * sizeof(float)), lines.data(),
+                     GL_STATIC_DRAW);
+        // The floor reaches well beyond the domain, just under its bottom.
+        const float reach = 3.0f * std::max({box.extent().x, box.extent().y, box.extent().z});
+        const float y = a.y - 1e-4f * reach;
+        const float cx = 0.5f * (a.x + b.x), cz = 0.5f * (a.z + b.z);
+        const float floorQuad[] = {cx - reach, y, cz - reach, cx + reach, y, cz - reach,
+                                   cx - reach, y, cz + reach, cx + reach, y, cz + reach};
+        glBindBuffer(GL_ARRAY_BUFFER, floorVbo);
+        glBufferData(GL_ARRAY_BUFFER, sizeof(floorQuad), floorQuad, GL_STATIC_DRAW);
+        glBindBuffer(GL_ARRAY_BUFFER, 0);
+    }
+
+    void resize(int w, int h) {
+        if (w == width && h == height) return;
+        width = w;
+        height = h;
+        backgroundColor.allocate(GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, w, h, true);
+        backgroundDepth.allocate(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h,
+                                 false);
+        splatDepth.allocate(GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_UNSIGNED_INT, w, h, false);
+        depthA.allocate(GL_R32F, GL_RED, GL_FLOAT, w, h, false);
+        depthB.allocate(GL_R32F, GL_RED, GL_FLOAT, w, h, false);
+        thickness.allocate(GL_R32F, GL_RED, GL_FLOAT, w, h, false);
+        backgroundFbo.attach(backgroundColor.id(), backgroundDepth.id());
+        depthFboA.attach(depthA.id(), splatDepth.id());
+        depthFboB.attach(depthB.id(), 0);
+        thicknessFbo.attach(thickness.id(), 0);
+    }
+
+    void drawBackground(const View& v) {
+        glDisable(GL_DEPTH_TEST);
+        skyProgram.use();
+        glUniformMatrix3fv(skyProgram.uniform("uViewToWorld"), 1, GL_FALSE,
+                           glm::value_ptr(v.viewToWorld));
+        glUniform2fv(skyProgram.uniform("uTanHalf"), 1, glm::value_ptr(v.tanHalf));
+        glBindVertexArray(emptyVao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        const glm::mat4 viewProj = v.proj * v.view;
+        floorProgram.use();
+        glUniformMatrix4fv(floorProgram.uniform("uViewProj"), 1, GL_FALSE,
+                           glm::value_ptr(viewProj));
+        const float size = std::max({domain.extent().x, domain.extent().z});
+        glUniform1f(floorProgram.uniform("uTile"), size / 8.0f);
+        glUniform2f(floorProgram.uniform("uCenter"), 0.5f * (domain.min.x + domain.max.x),
+                    0.5f * (domain.min.z + domain.max.z));
+        glUniform1f(floorProgram.uniform("uFade"), 3.0f * size);
+        glBindVertexArray(floorVao);
+        glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    }
+
+    void drawBox(const View& v) {
+        const glm::mat4 viewProj = v.proj * v.view;
+        lineProgram.use();
+        glUniformMatrix4fv(lineProgram.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+        glUniform3f(lineProgram.uniform("uColor"), 0.15f, 0.17f, 0.2f);
+        glBindVertexArray(boxVao);
+        glDrawArrays(GL_LINES, 0, 24);
+    }
+
+    void drawParticles(const gl::Program& program, const View& v, float quadScale = 1.5f,
+                       float radiusScale = 1.0f) {
+        if (count == 0) return;
+        program.use();
+        glUniformMatrix4fv(program.uniform("uView"), 1, GL_FALSE, glm::value_ptr(v.view));
+        glUniformMatrix4fv(program.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
+        glUniform1f(program.uniform("uRadius"), radius * radiusScale);
+        glUniform1f(program.uniform("uQuadScale"), quadScale);
+        glBindVertexArray(particleVao);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(count));  // the one draw call
+    }
+
+    void renderSpheres(GLuint target, const View& v, const RenderSettings& s) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        drawBackground(v);
+        sphereShade.use();
+        glUniform1i(sphereShade.uniform("uColorMode"), int(s.color));
+        const float hi = s.rangeMax > s.rangeMin ? s.rangeMax : s.rangeMin + 1e-6f;
+        glUniform2f(sphereShade.uniform("uRange"), s.rangeMin, hi);
+        glUniform3fv(sphereShade.uniform("uFlatColor"), 1, s.flatColor.data());
+        glUniform3fv(sphereShade.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
+        drawParticles(sphereShade, v);
+        if (s.drawBox) drawBox(v);
+    }
+
+    void renderLiquid(GLuint target, const View& v, const RenderSettings& s) {
+        // Background (sky, floor, box) into a texture: what the water refracts.
+        glBindFramebuffer(GL_FRAMEBUFFER, backgroundFbo.id());
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        drawBackground(v);
+        if (s.drawBox) drawBox(v);
+
+        // 1. Depth splats: nearest sphere surface per pixel.
+        glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
+        glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        // Spheres larger than the particles (as in FleX's renderer) close the
+        // gaps of a disordered surface before smoothing.
+        drawParticles(sphereDepth, v, 1.5f, kLiquidRadiusScale);
+
+        // 2. Thickness: all spheres added, no depth test.
+        glBindFramebuffer(GL_FRAMEBUFFER, thicknessFbo.id());
+        glClear(GL_COLOR_BUFFER_BIT);
+        glDisable(GL_DEPTH_TEST);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        drawParticles(sphereThickness, v, 4.5f);  // the Gaussian's 3 sigma
+        glDisable(GL_BLEND);
+
+        // 3. Depth smoothing; each iteration is two passes, A -> B (horizontal) -> A (vertical).
+        smoothing.use();
+        glUniform1f(smoothing.uniform("uPixelsPerMetre"), v.pixelsPerMetre);
+        glUniform1f(smoothing.uniform("uRadius"), radius * kLiquidRadiusScale);
+        glBindVertexArray(emptyVao);
+        for (int i = 0; i < s.smoothingIterations; ++i) {
+            glBindFramebuffer(GL_FRAMEBUFFER, depthFboB.id());
+            gl::bindTexture(smoothing, "uDepth", 0, depthA.id());
+            glUniform2i(smoothing.uniform("uStep"), 1, 0);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
+            gl::bindTexture(smoothing, "uDepth", 0, depthB.id());
+            glUniform2i(smoothing.uniform("uStep"), 0, 1);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+        }
+
+        // 4. Composite into the target, writing depth so the box can be drawn on top.
+        glBindFramebuffer(GL_FRAMEBUFFER, target);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        composite.use();
+        gl::bindTexture(composite, "uDepth", 0, depthA.id());
+        gl::bindTexture(composite, "uThickness", 1, thickness.id());
+        gl::bindTexture(composite, "uBackground", 2, backgroundColor.id());
+        gl::bindTexture(composite, "uBackgroundDepth", 3, backgroundDepth.id());
+        glUniformMatrix4fv(composite.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
+        glUniformMatrix3fv(composite.uniform("uViewToWorld"), 1, GL_FALSE,
+                           glm::value_ptr(v.viewToWorld));
+        glUniform2fv(composite.uniform("uTanHalf"), 1, glm::value_ptr(v.tanHalf));
+        glUniform3fv(composite.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
+        // Absorption per metre: red goes first, so thick water turns blue-green.
+        glUniform3f(composite.uniform("uAbsorption"), 8.0f, 2.2f, 1.0f);
+        glUniform3f(composite.uniform("uScatter"), 0.02f, 0.22f, 0.35f);
+        glUniform1f(composite.uniform("uRefraction"), 0.15f);
+        glBindVertexArray(emptyVao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDepthFunc(GL_LESS);
+        if (s.drawBox) drawBox(v);
+        glActiveTexture(GL_TEXTURE0);
+    }
+};
+
+SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
+SceneRenderer::~SceneRenderer() = default;
+
+void SceneRenderer::setDomain(const Aabb& domain) {
+    impl_->setDomain(domain);
+}
+void SceneRenderer::setParticleRadius(float radius) {
+    impl_->radius = radius;
+}
+std::size_t SceneRenderer::particleCount() const {
+    return impl_->count;
+}
+
+void SceneRenderer::upload(const RenderParticles& particles) {
+    glBindBuffer(GL_ARRAY_BUFFER, impl_->particleVbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)),
+                 particles.data.data(), GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    impl_->count = particles.count();
+}
+
+void SceneRenderer::render(unsigned framebuffer, int width, int height, const Camera& camera,
+                           const RenderSettings& settings) {
+    const View v = makeView(camera, impl_->domain, width, height);
+    glViewport(0, 0, width, height);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    if (settings.style == Style::Liquid) {
+        impl_->resize(width, height);
+        impl_->renderLiquid(framebuffer, v, settings);
+    } else {
+        impl_->renderSpheres(framebuffer, v, settings);
+    }
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+}  // namespace pbf::render
