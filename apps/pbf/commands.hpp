@@ -11,5 +11,6 @@ namespace pbf::cli {
 // Registers the subcommand and returns the function that runs it after parsing.
 std::function<int()> addRunCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
+std::function<int()> addMeshCommand(CLI::App& app);
 
 }  // namespace pbf::cli

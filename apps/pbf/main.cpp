@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     const auto run = pbf::cli::addRunCommand(app);
     const auto bench = pbf::cli::addBenchCommand(app);
+    const auto mesh = pbf::cli::addMeshCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
     try {
         if (app.got_subcommand("run")) return run();
         if (app.got_subcommand("bench")) return bench();
+        if (app.got_subcommand("mesh")) return mesh();
     } catch (const std::exception& e) {
         pbf::cli::printError(e.what());
         return 1;
