@@ -146,8 +146,17 @@ LevelSet buildLevelSet(std::span<const Vec3> positions, const SurfaceParams& par
     raster.finalize(/*prune=*/true);
 
     openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+    // The tracker re-normalises the band after every filter step. Its
+    // default (fifth-order WENO, 19-point stencil) dominated the run time;
+    // a first-order upwind gradient is ample for a band that is re-made
+    // from a smoothed surface, and about three times cheaper.
+    filter.setSpatialScheme(openvdb::math::FIRST_BIAS);
+    filter.setTemporalScheme(openvdb::math::TVD_RK1);
     // 3. Erode back (a positive offset moves the zero crossing inwards).
     if (erosion > 0.0) filter.offset(static_cast<float>(erosion));
+    // The erosion needed the wide band; smoothing needs only the standard
+    // three voxels, and every filter pass costs in proportion to the band.
+    filter.resize(3);
     // 4. Mean-curvature flow: speed proportional to curvature, so single
     // sphere bumps (high curvature) go first and flat water stays put.
     for (int k = 0; k < params.smoothing; ++k) filter.meanCurvature();
