@@ -1,6 +1,8 @@
 // Surface reconstruction and OpenVDB caches: meshes of known shapes have the
 // right volume, area and flatness and are watertight; spray is dropped; VDB
 // point caches read back what was written; bad input is refused.
+#include "pbf/surface/surface.hpp"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,7 +15,6 @@
 #include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/surface/mesh_frames.hpp"
-#include "pbf/surface/surface.hpp"
 #include "pbf/surface/vdb_points.hpp"
 
 namespace {
@@ -25,7 +26,8 @@ using namespace pbf::surface;
 constexpr float kR = 0.01f;  // particle radius of the test shapes
 
 fs::path freshDirectory(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("pbf_surface_test_" + name + "_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("pbf_surface_test_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
@@ -61,8 +63,9 @@ TEST(Surface, BallMeshesToAClosedSphereOfTheFluidVolume) {
     const TriangleMesh mesh = reconstructSurface(particles, defaults());
     ASSERT_FALSE(mesh.triangles.empty());
     const EdgeReport edges = checkEdges(mesh);
-    EXPECT_TRUE(edges.watertight()) << edges.boundaryEdges << " boundary, " << edges.nonManifoldEdges
-                                    << " non-manifold, " << edges.misorientedEdges << " misoriented";
+    EXPECT_TRUE(edges.watertight())
+        << edges.boundaryEdges << " boundary, " << edges.nonManifoldEdges << " non-manifold, "
+        << edges.misorientedEdges << " misoriented";
     EXPECT_EQ(countComponents(mesh), 1u);
     // A closed surface of genus 0: V - E + F = 2.
     EXPECT_EQ(long(mesh.vertices.size()) - long(edges.edges) + long(mesh.triangles.size()), 2);
@@ -86,7 +89,8 @@ TEST(Surface, BallMeshesToAClosedSphereOfTheFluidVolume) {
 
 TEST(Surface, RestingSlabHasAFlatTopAtTheFluidHeight) {
     const float height = 0.1f;
-    const std::vector<Vec3> particles = lattice({0, 0, 0}, {0.3f, height, 0.3f}, 0.1f, [](Vec3) { return true; });
+    const std::vector<Vec3> particles =
+        lattice({0, 0, 0}, {0.3f, height, 0.3f}, 0.1f, [](Vec3) { return true; });
     const TriangleMesh mesh = reconstructSurface(particles, defaults());
     EXPECT_TRUE(checkEdges(mesh).watertight());
     EXPECT_EQ(countComponents(mesh), 1u);
@@ -95,7 +99,8 @@ TEST(Surface, RestingSlabHasAFlatTopAtTheFluidHeight) {
     double sum = 0.0, maxDeviation = 0.0;
     int count = 0;
     for (const Vec3& v : mesh.vertices) {
-        if (v.y < 0.5f * height || v.x < 0.05f || v.x > 0.25f || v.z < 0.05f || v.z > 0.25f) continue;
+        if (v.y < 0.5f * height || v.x < 0.05f || v.x > 0.25f || v.z < 0.05f || v.z > 0.25f)
+            continue;
         sum += v.y;
         maxDeviation = std::max(maxDeviation, std::abs(double(v.y) - height));
         ++count;
@@ -119,7 +124,8 @@ TEST(Surface, AdaptiveMeshesAreWatertightAndSmaller) {
 TEST(Surface, StrayParticlesAreDroppedNotMeshedAsBlobs) {
     std::vector<Vec3> particles = ball(0.08f);
     const std::size_t bulk = particles.size();
-    for (int k = 0; k < 20; ++k) particles.push_back({0.2f + 0.05f * float(k), 0.3f, 0.0f});  // lone droplets
+    for (int k = 0; k < 20; ++k)
+        particles.push_back({0.2f + 0.05f * float(k), 0.3f, 0.0f});  // lone droplets
     BuildReport report;
     const TriangleMesh filtered = reconstructSurface(particles, defaults(), &report);
     EXPECT_EQ(report.particles, particles.size());
@@ -156,8 +162,10 @@ TEST(Surface, InvalidParametersAreRefusedWithTheField) {
 }
 
 TEST(Surface, ParticleRadiusIsEstimatedFromTheSpacing) {
-    std::vector<Vec3> particles = lattice({0, 0, 0}, {0.2f, 0.2f, 0.2f}, 0.1f, [](Vec3) { return true; });
-    for (int k = 0; k < 30; ++k) particles.push_back({1.0f + float(k), 2.0f, 0.0f});  // spray far away
+    std::vector<Vec3> particles =
+        lattice({0, 0, 0}, {0.2f, 0.2f, 0.2f}, 0.1f, [](Vec3) { return true; });
+    for (int k = 0; k < 30; ++k)
+        particles.push_back({1.0f + float(k), 2.0f, 0.0f});  // spray far away
     // Jitter shortens nearest-neighbour distances: the estimate runs a few
     // per cent low (docs/surfaces.md).
     EXPECT_NEAR(estimateParticleRadius(particles), kR, 0.08 * kR);
@@ -181,7 +189,8 @@ TEST(SurfaceFiles, ObjAndPlyHoldTheMesh) {
     std::ifstream ply(dir / "m.ply", std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(ply)), {});
     const std::size_t body = text.find("end_header\n") + 11;
-    EXPECT_NE(text.find("element face " + std::to_string(mesh.triangles.size()) + "\n"), std::string::npos);
+    EXPECT_NE(text.find("element face " + std::to_string(mesh.triangles.size()) + "\n"),
+              std::string::npos);
     EXPECT_EQ(text.size() - body, mesh.vertices.size() * 12 + mesh.triangles.size() * 13);
     fs::remove_all(dir);
 }
@@ -190,9 +199,12 @@ TEST(VdbPoints, RoundTripKeepsEveryAttribute) {
     pbf::ParticleStore store;
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    for (int k = 0; k < 2000; ++k) store.add({u(rng), 0.5f * u(rng), 2.0f + u(rng)}, {u(rng), u(rng), u(rng)}, 1000.0f + u(rng));
+    for (int k = 0; k < 2000; ++k)
+        store.add({u(rng), 0.5f * u(rng), 2.0f + u(rng)}, {u(rng), u(rng), u(rng)},
+                  1000.0f + u(rng));
     std::vector<std::uint32_t> perm(store.size());
-    for (std::uint32_t k = 0; k < perm.size(); ++k) perm[k] = (k * 7919u) % 2000u;  // solver-like memory order
+    for (std::uint32_t k = 0; k < perm.size(); ++k)
+        perm[k] = (k * 7919u) % 2000u;  // solver-like memory order
     store.reorder(perm);
     const fs::path dir = freshDirectory("vdbpoints");
     writeParticlesVdb(dir / "p.vdb", store);
@@ -295,8 +307,9 @@ TEST(MeshFrames, BadDirectoriesAndFramesAreReportedWithTheName) {
     expectIoError(job, "missing: no such directory");
     job.input = dir;
     expectIoError(job, "no particle frames");
-    std::ofstream(dir / "frame_00000.ply") << "ply\nformat binary_little_endian 1.0\nelement vertex 10\n"
-                                              "property float x\nproperty float y\nproperty float z\nend_header\n";
+    std::ofstream(dir / "frame_00000.ply")
+        << "ply\nformat binary_little_endian 1.0\nelement vertex 10\n"
+           "property float x\nproperty float y\nproperty float z\nend_header\n";
     job.params.particleRadius = kR;
     expectIoError(job, "frame_00000.ply: file is shorter than its vertex count says");
     job.range = parseFrameRange("5:9");

@@ -10,7 +10,8 @@ namespace pbf::cli {
 
 // Registers the mesh options (radius, voxel size, smoothing, ...) on `command`
 // writing into `job`, `formats` ("obj,vdb") and `frames` ("0:100:2").
-void addMeshOptions(CLI::App& command, surface::MeshJob& job, std::string& formats, std::string& frames);
+void addMeshOptions(CLI::App& command, surface::MeshJob& job, std::string& formats,
+                    std::string& frames);
 // Returns the exit code.
 int runMeshJob(const surface::MeshJob& job, bool quiet);
 

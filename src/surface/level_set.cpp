@@ -1,6 +1,6 @@
 // Particles -> level set -> mesh with OpenVDB (steps in surface.hpp).
-#include <openvdb/openvdb.h>
 #include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
 #include <openvdb/tools/LevelSetFilter.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
 #include <openvdb/tools/PointIndexGrid.h>
@@ -31,7 +31,9 @@ LevelSet& LevelSet::operator=(LevelSet&&) noexcept = default;
 std::size_t LevelSet::activeVoxels() const {
     return impl_->grid ? static_cast<std::size_t>(impl_->grid->activeVoxelCount()) : 0;
 }
-bool LevelSet::empty() const { return activeVoxels() == 0; }
+bool LevelSet::empty() const {
+    return activeVoxels() == 0;
+}
 
 namespace {
 
@@ -76,21 +78,24 @@ double meanUnionHeight(double scale) {
     double sum = 0.0;
     for (int i = 0; i < kSamples; ++i)
         for (int j = 0; j < kSamples; ++j) {
-            const double x = -1.0 + (i + 0.5) * 2.0 / kSamples, y = -1.0 + (j + 0.5) * 2.0 / kSamples;
+            const double x = -1.0 + (i + 0.5) * 2.0 / kSamples,
+                         y = -1.0 + (j + 0.5) * 2.0 / kSamples;
             sum += std::sqrt(std::max(0.0, scale * scale - x * x - y * y));
         }
     return sum / (kSamples * kSamples);
 }
 
 void requireValid(const SurfaceParams& params) {
-    if (const std::string problem = validate(params); !problem.empty()) throw std::invalid_argument(problem);
+    if (const std::string problem = validate(params); !problem.empty())
+        throw std::invalid_argument(problem);
 }
 
 }  // namespace
 
 std::string validate(const SurfaceParams& p) {
     if (!(p.particleRadius > 0.0f && std::isfinite(p.particleRadius)))
-        return "radius: the particle radius must be positive, got " + std::to_string(p.particleRadius);
+        return "radius: the particle radius must be positive, got " +
+               std::to_string(p.particleRadius);
     if (!(p.voxelSize > 0.0f && p.voxelSize <= 2.0f))
         return "voxel-size: must be in (0, 2] particle radii, got " + std::to_string(p.voxelSize);
     // Below sqrt(2) the spheres of a flat layer leave holes: no closing.
@@ -98,9 +103,11 @@ std::string validate(const SurfaceParams& p) {
         return "sphere-scale: must be in [1.5, 4], got " + std::to_string(p.sphereScale);
     // ParticlesToLevelSet skips spheres narrower than 1.5 voxels.
     if (p.sphereScale < 1.5f * p.voxelSize)
-        return "voxel-size: must be at most sphere-scale / 1.5 = " + std::to_string(p.sphereScale / 1.5f) +
+        return "voxel-size: must be at most sphere-scale / 1.5 = " +
+               std::to_string(p.sphereScale / 1.5f) +
                " particle radii (OpenVDB skips spheres narrower than 1.5 voxels)";
-    if (p.smoothing < 0 || p.smoothing > 100) return "smooth: must be in [0, 100], got " + std::to_string(p.smoothing);
+    if (p.smoothing < 0 || p.smoothing > 100)
+        return "smooth: must be in [0, 100], got " + std::to_string(p.smoothing);
     if (p.minNeighbors < 0 || p.minNeighbors > 1000)
         return "min-neighbors: must be in [0, 1000], got " + std::to_string(p.minNeighbors);
     if (!(p.adaptivity >= 0.0f && p.adaptivity <= 1.0f))
@@ -108,7 +115,8 @@ std::string validate(const SurfaceParams& p) {
     return {};
 }
 
-LevelSet buildLevelSet(std::span<const Vec3> positions, const SurfaceParams& params, BuildReport* report) {
+LevelSet buildLevelSet(std::span<const Vec3> positions, const SurfaceParams& params,
+                       BuildReport* report) {
     requireValid(params);
     openvdb::initialize();
     const double r = params.particleRadius;
@@ -203,7 +211,9 @@ void writeLevelSetVdb(const std::filesystem::path& path, const LevelSet& levelSe
 }
 
 float estimateParticleRadius(std::span<const Vec3> positions) {
-    if (positions.size() < 2) throw std::invalid_argument("cannot estimate the particle radius from fewer than 2 particles");
+    if (positions.size() < 2)
+        throw std::invalid_argument(
+            "cannot estimate the particle radius from fewer than 2 particles");
     openvdb::initialize();
     Vec3 lo = positions[0], hi = positions[0];
     for (const Vec3& p : positions) {
@@ -216,28 +226,30 @@ float estimateParticleRadius(std::span<const Vec3> positions) {
     // bound for the bulk); fall back to the largest extent for flat sets.
     double radius = std::cbrt(double(e.x) * e.y * e.z / n);
     if (!(radius > 0.0)) radius = std::max({e.x, e.y, e.z}) / std::sqrt(n);
-    if (!(radius > 0.0)) throw std::invalid_argument("cannot estimate the particle radius: all particles coincide");
+    if (!(radius > 0.0))
+        throw std::invalid_argument("cannot estimate the particle radius: all particles coincide");
 
     const ParticleList list(positions);
     for (int attempt = 0; attempt < 30; ++attempt, radius *= 2.0) {
         const PointSearch search(list, radius);
         std::vector<float> nearest(positions.size(), -1.0f);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& range) {
-            auto accessor = search.grid->getConstAccessor();
-            openvdb::tools::PointIndexIterator<IndexGrid::TreeType> it;
-            openvdb::Vec3R p;
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                list.getPos(i, p);
-                it.worldSpaceSearchAndUpdate(p, radius, accessor, list, *search.transform);
-                float best = -1.0f;
-                for (; it; ++it) {
-                    if (*it == i) continue;
-                    const float d = length(positions[*it] - positions[i]);
-                    if (d > 0.0f && (best < 0.0f || d < best)) best = d;
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& range) {
+                auto accessor = search.grid->getConstAccessor();
+                openvdb::tools::PointIndexIterator<IndexGrid::TreeType> it;
+                openvdb::Vec3R p;
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    list.getPos(i, p);
+                    it.worldSpaceSearchAndUpdate(p, radius, accessor, list, *search.transform);
+                    float best = -1.0f;
+                    for (; it; ++it) {
+                        if (*it == i) continue;
+                        const float d = length(positions[*it] - positions[i]);
+                        if (d > 0.0f && (best < 0.0f || d < best)) best = d;
+                    }
+                    nearest[i] = best;
                 }
-                nearest[i] = best;
-            }
-        });
+            });
         std::erase_if(nearest, [](float d) { return d < 0.0f; });
         // Most particles must see a neighbour, or the median describes spray.
         if (nearest.size() * 2 < positions.size()) continue;

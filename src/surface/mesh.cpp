@@ -14,9 +14,12 @@
 namespace pbf::surface {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "binary PLY output assumes a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "binary PLY output assumes a little-endian host");
 
-Vec3 at(const TriangleMesh& m, std::uint32_t i) { return m.vertices[i]; }
+Vec3 at(const TriangleMesh& m, std::uint32_t i) {
+    return m.vertices[i];
+}
 
 }  // namespace
 
@@ -38,7 +41,9 @@ double meshVolume(const TriangleMesh& mesh) {
 double meshArea(const TriangleMesh& mesh) {
     double sum = 0.0;
     for (const auto& t : mesh.triangles)
-        sum += 0.5 * double(length(cross(at(mesh, t[1]) - at(mesh, t[0]), at(mesh, t[2]) - at(mesh, t[0]))));
+        sum +=
+            0.5 *
+            double(length(cross(at(mesh, t[1]) - at(mesh, t[0]), at(mesh, t[2]) - at(mesh, t[0]))));
     return sum;
 }
 
@@ -63,9 +68,12 @@ EdgeReport checkEdges(const TriangleMesh& mesh) {
     EdgeReport report;
     report.edges = edges.size();
     for (const auto& [key, u] : edges) {
-        if (u.count == 1) ++report.boundaryEdges;
-        else if (u.count > 2) ++report.nonManifoldEdges;
-        else if (u.direction != 0) ++report.misorientedEdges;
+        if (u.count == 1)
+            ++report.boundaryEdges;
+        else if (u.count > 2)
+            ++report.nonManifoldEdges;
+        else if (u.direction != 0)
+            ++report.misorientedEdges;
     }
     return report;
 }
@@ -99,12 +107,14 @@ void writeMeshObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
             buffer.clear();
         };
         for (const Vec3& v : mesh.vertices) {
-            const int n = std::snprintf(line, sizeof line, "v %.7g %.7g %.7g\n", double(v.x), double(v.y), double(v.z));
+            const int n = std::snprintf(line, sizeof line, "v %.7g %.7g %.7g\n", double(v.x),
+                                        double(v.y), double(v.z));
             buffer.append(line, static_cast<std::size_t>(n));
             if (buffer.size() > (1u << 20) - 128) flush();
         }
         for (const auto& t : mesh.triangles) {
-            const int n = std::snprintf(line, sizeof line, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+            const int n =
+                std::snprintf(line, sizeof line, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
             buffer.append(line, static_cast<std::size_t>(n));
             if (buffer.size() > (1u << 20) - 128) flush();
         }

@@ -3,13 +3,11 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <fstream>
-#include <regex>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "pbf/io.hpp"
@@ -23,7 +21,8 @@ int parseInt(std::string_view text, std::string_view whole) {
     int value = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     if (ec != std::errc() || end != text.data() + text.size())
-        throw std::invalid_argument(fmt::format("frames: expected FIRST[:END[:STEP]] with integers, got \"{}\"", whole));
+        throw std::invalid_argument(
+            fmt::format("frames: expected FIRST[:END[:STEP]] with integers, got \"{}\"", whole));
     return value;
 }
 
@@ -31,6 +30,22 @@ std::uintmax_t sizeOf(const fs::path& path) {
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(path, ec);
     return ec ? 0 : size;
+}
+
+// N of "frame_N.ply" (N at least 5 digits, as `pbf run` names them), else -1.
+int frameNumber(std::string_view name) {
+    constexpr std::string_view prefix = "frame_", suffix = ".ply";
+    if (name.size() < prefix.size() + 5 + suffix.size() || !name.starts_with(prefix) ||
+        !name.ends_with(suffix))
+        return -1;
+    const std::string_view digits =
+        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    int value = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec != std::errc() || end != digits.data() + digits.size() ||
+        digits.find_first_not_of("0123456789") != std::string_view::npos)
+        return -1;
+    return value;
 }
 
 }  // namespace
@@ -41,11 +56,13 @@ FrameRange parseFrameRange(std::string_view text) {
     std::size_t start = 0;
     while (true) {
         const std::size_t colon = text.find(':', start);
-        parts.push_back(text.substr(start, colon == std::string_view::npos ? colon : colon - start));
+        parts.push_back(
+            text.substr(start, colon == std::string_view::npos ? colon : colon - start));
         if (colon == std::string_view::npos) break;
         start = colon + 1;
     }
-    if (parts.size() > 3) throw std::invalid_argument(fmt::format("frames: too many ':' in \"{}\"", text));
+    if (parts.size() > 3)
+        throw std::invalid_argument(fmt::format("frames: too many ':' in \"{}\"", text));
     if (parts.size() == 1) {  // a single frame
         range.first = parseInt(parts[0], text);
         range.end = range.first + 1;
@@ -54,10 +71,14 @@ FrameRange parseFrameRange(std::string_view text) {
         if (!parts[1].empty()) range.end = parseInt(parts[1], text);
         if (parts.size() == 3 && !parts[2].empty()) range.step = parseInt(parts[2], text);
     }
-    if (range.first < 0) throw std::invalid_argument(fmt::format("frames: first frame must be >= 0 in \"{}\"", text));
-    if (range.step < 1) throw std::invalid_argument(fmt::format("frames: step must be >= 1 in \"{}\"", text));
+    if (range.first < 0)
+        throw std::invalid_argument(
+            fmt::format("frames: first frame must be >= 0 in \"{}\"", text));
+    if (range.step < 1)
+        throw std::invalid_argument(fmt::format("frames: step must be >= 1 in \"{}\"", text));
     if (parts.size() > 1 && !parts[1].empty() && range.end <= range.first)
-        throw std::invalid_argument(fmt::format("frames: end must be greater than first in \"{}\"", text));
+        throw std::invalid_argument(
+            fmt::format("frames: end must be greater than first in \"{}\"", text));
     return range;
 }
 
@@ -67,22 +88,23 @@ std::vector<FrameFile> listParticleFrames(const fs::path& directory, const Frame
         throw IoError(directory.string() + ": " +
                       (fs::exists(directory, ec) ? "not a directory" : "no such directory") +
                       " (expected the output directory of `pbf run`)");
-    static const std::regex pattern(R"(frame_(\d{5,})\.ply)");
     std::vector<FrameFile> frames;
     std::size_t all = 0;
     for (const auto& entry : fs::directory_iterator(directory, ec)) {
-        std::smatch match;
-        const std::string name = entry.path().filename().string();
-        if (!std::regex_match(name, match, pattern)) continue;
+        const int frame = frameNumber(entry.path().filename().string());
+        if (frame < 0) continue;
         ++all;
-        const int frame = std::stoi(match[1].str());
         if (range.contains(frame)) frames.push_back({frame, entry.path()});
     }
     if (ec) throw IoError(directory.string() + ": cannot list directory: " + ec.message());
-    if (all == 0) throw IoError(directory.string() + ": no particle frames (frame_NNNNN.ply) in the directory");
+    if (all == 0)
+        throw IoError(directory.string() +
+                      ": no particle frames (frame_NNNNN.ply) in the directory");
     if (frames.empty())
-        throw IoError(fmt::format("{}: none of its {} particle frames is in the requested range", directory.string(), all));
-    std::sort(frames.begin(), frames.end(), [](const FrameFile& a, const FrameFile& b) { return a.frame < b.frame; });
+        throw IoError(fmt::format("{}: none of its {} particle frames is in the requested range",
+                                  directory.string(), all));
+    std::sort(frames.begin(), frames.end(),
+              [](const FrameFile& a, const FrameFile& b) { return a.frame < b.frame; });
     return frames;
 }
 
@@ -105,10 +127,15 @@ MeshFormats parseMeshFormats(std::string_view text) {
     while (start <= text.size()) {
         const std::size_t comma = std::min(text.find(',', start), text.size());
         const std::string_view word = text.substr(start, comma - start);
-        if (word == "obj") f.obj = true;
-        else if (word == "ply") f.ply = true;
-        else if (word == "vdb") f.vdb = true;
-        else throw std::invalid_argument(fmt::format("format: unknown format \"{}\" (expected obj, ply, vdb)", word));
+        if (word == "obj")
+            f.obj = true;
+        else if (word == "ply")
+            f.ply = true;
+        else if (word == "vdb")
+            f.vdb = true;
+        else
+            throw std::invalid_argument(
+                fmt::format("format: unknown format \"{}\" (expected obj, ply, vdb)", word));
         start = comma + 1;
     }
     return f;
@@ -117,14 +144,16 @@ MeshFormats parseMeshFormats(std::string_view text) {
 fs::path surfaceFileName(int frame, std::string_view extension) {
     return fmt::format("surface_{:05d}.{}", frame, extension);
 }
-fs::path levelSetFileName(int frame) { return fmt::format("levelset_{:05d}.vdb", frame); }
+fs::path levelSetFileName(int frame) {
+    return fmt::format("levelset_{:05d}.vdb", frame);
+}
 
 MeshSummary meshFrames(const MeshJob& job) {
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<tbb::global_control> threadLimit;
     if (job.threads > 0)
-        threadLimit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                            static_cast<std::size_t>(job.threads));
+        threadLimit = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(job.threads));
     const std::vector<FrameFile> frames = listParticleFrames(job.input, job.range);
     MeshSummary summary;
     SurfaceParams params = job.params;
@@ -143,13 +172,15 @@ MeshSummary meshFrames(const MeshJob& job) {
         summary.radiusSource = "estimated";
     }
     summary.particleRadius = params.particleRadius;
-    if (const std::string problem = validate(params); !problem.empty()) throw std::invalid_argument(problem);
+    if (const std::string problem = validate(params); !problem.empty())
+        throw std::invalid_argument(problem);
 
     const fs::path output = job.output.empty() ? job.input / "surface" : job.output;
     std::error_code ec;
     fs::create_directories(output, ec);
     if (ec || !fs::is_directory(output))
-        throw IoError(output.string() + ": cannot create output directory" + (ec ? " (" + ec.message() + ")" : ""));
+        throw IoError(output.string() + ": cannot create output directory" +
+                      (ec ? " (" + ec.message() + ")" : ""));
 
     for (std::size_t k = 0; k < frames.size(); ++k) {
         const FrameFile& f = frames[k];
@@ -179,7 +210,8 @@ MeshSummary meshFrames(const MeshJob& job) {
             writeLevelSetVdb(output / levelSetFileName(f.frame), levelSet);
             report.bytesWritten += sizeOf(output / levelSetFileName(f.frame));
         }
-        report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        report.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         summary.frames += 1;
         summary.particles += report.particles;
         summary.triangles += report.triangles;
@@ -187,7 +219,8 @@ MeshSummary meshFrames(const MeshJob& job) {
         summary.meshSeconds += report.seconds;
         if (job.onFrame) job.onFrame(report);
     }
-    summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    summary.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return summary;
 }
 

@@ -13,7 +13,7 @@ namespace pbf::surface::detail {
 
 // What ParticlesToLevelSet, createPointIndexGrid and PointIndexIterator read.
 class ParticleList {
-public:
+  public:
     using PosType = openvdb::Vec3R;
     using value_type = openvdb::Vec3R;
 
@@ -24,7 +24,7 @@ public:
         xyz = openvdb::Vec3R(p.x, p.y, p.z);
     }
 
-private:
+  private:
     std::span<const Vec3> positions_;
 };
 

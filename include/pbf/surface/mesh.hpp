@@ -27,11 +27,13 @@ double meshVolume(const TriangleMesh& mesh);
 double meshArea(const TriangleMesh& mesh);
 
 struct EdgeReport {
-    std::size_t edges = 0;          // distinct undirected edges
-    std::size_t boundaryEdges = 0;  // used by one triangle (a hole)
+    std::size_t edges = 0;             // distinct undirected edges
+    std::size_t boundaryEdges = 0;     // used by one triangle (a hole)
     std::size_t nonManifoldEdges = 0;  // used by three or more triangles
     std::size_t misorientedEdges = 0;  // two triangles traverse it in the same direction
-    bool watertight() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
+    bool watertight() const {
+        return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0;
+    }
 };
 EdgeReport checkEdges(const TriangleMesh& mesh);
 // Number of connected pieces (triangles sharing a vertex are connected).

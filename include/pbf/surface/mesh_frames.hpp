@@ -34,7 +34,8 @@ struct FrameFile {
 };
 // The frame_NNNNN.ply files of `directory` inside `range`, in frame order.
 // Throws IoError naming the directory if it is missing or has no such frame.
-std::vector<FrameFile> listParticleFrames(const std::filesystem::path& directory, const FrameRange& range);
+std::vector<FrameFile> listParticleFrames(const std::filesystem::path& directory,
+                                          const FrameRange& range);
 
 // "particle_radius" from `directory`/summary.json (written by `pbf run`),
 // or 0 if the file or the field is absent. Throws IoError if it is malformed.
@@ -68,17 +69,17 @@ struct MeshJob {
     SurfaceParams params;
     MeshFormats formats;
     std::function<void(const FrameMeshReport&)> onFrame;  // may be empty
-    int threads = 0;  // TBB worker threads, 0 = all cores
+    int threads = 0;                                      // TBB worker threads, 0 = all cores
 };
 
 struct MeshSummary {
     int frames = 0;
     float particleRadius = 0.0f;
-    std::string radiusSource;  // "option", "summary.json" or "estimated"
+    std::string radiusSource;   // "option", "summary.json" or "estimated"
     std::size_t particles = 0;  // summed over frames
     std::size_t triangles = 0;  // summed over frames
     std::uintmax_t bytesWritten = 0;
-    double seconds = 0.0;  // wall time
+    double seconds = 0.0;      // wall time
     double meshSeconds = 0.0;  // level set + mesh + write, summed
 };
 

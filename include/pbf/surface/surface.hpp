@@ -59,7 +59,7 @@ struct SurfaceParams {
 std::string validate(const SurfaceParams& params);
 
 class LevelSet {
-public:
+  public:
     LevelSet();
     ~LevelSet();
     LevelSet(LevelSet&&) noexcept;
@@ -71,12 +71,12 @@ public:
     Impl& impl() { return *impl_; }
     const Impl& impl() const { return *impl_; }
 
-private:
+  private:
     std::unique_ptr<Impl> impl_;
 };
 
 struct BuildReport {
-    std::size_t particles = 0;  // input
+    std::size_t particles = 0;     // input
     std::size_t sprayDropped = 0;  // fewer than minNeighbors neighbours
 };
 
