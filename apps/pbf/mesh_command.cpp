@@ -73,11 +73,10 @@ int runMeshJob(const surface::MeshJob& job, bool quiet) {
     progress.finish();
     fmt::print(
         "pbf mesh: {} frames, {} particles (radius {:.5g} m from {}), {} triangles, {:.1f} MB "
-        "written in "
-        "{:.1f} s, {:.2f} M particles/s meshed -> {}\n",
+        "written in {:.1f} s, {:.0f} particles/s meshed -> {}\n",
         s.frames, s.particles, s.particleRadius, s.radiusSource, s.triangles,
         double(s.bytesWritten) * 1e-6, s.seconds,
-        s.meshSeconds > 0 ? double(s.particles) / s.meshSeconds * 1e-6 : 0.0, output.string());
+        s.meshSeconds > 0 ? double(s.particles) / s.meshSeconds : 0.0, output.string());
     return 0;
 }
 
