@@ -16,6 +16,7 @@
 #include "pbf/run.hpp"
 #include "pbf/surface/mesh_frames.hpp"
 #include "pbf/surface/vdb_points.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -242,6 +243,33 @@ TEST(VdbPoints, MissingAndForeignFilesAreRejectedWithTheName) {
     // A level set is a VDB file but holds no points.
     writeLevelSetVdb(dir / "ls.vdb", buildLevelSet(ball(0.05f), defaults()));
     EXPECT_THROW(readParticlesVdb(dir / "ls.vdb"), pbf::IoError);
+    fs::remove_all(dir);
+}
+
+TEST(VdbPoints, RunWritesAPointCachePerFrameWhenTheSceneAsks) {
+    const pbf::Scene scene = pbf::parseScene(
+        pbf::test::smallSceneJson(R"("output": {"vdb_points": true})"), "small.json");
+    ASSERT_TRUE(scene.output.writeVdbPoints);
+    EXPECT_FALSE(pbf::parseScene(pbf::test::smallSceneJson(), "small.json").output.writeVdbPoints);
+    const fs::path dir = freshDirectory("runvdb");
+    pbf::RunOptions options;
+    options.outputDirectory = dir;
+    options.frames = 2;
+    options.writeFrame = [&](int frame, const pbf::ParticleStore& particles) {
+        writeParticlesVdb(dir / ("frame_" + std::to_string(frame) + ".vdb"), particles);
+    };
+    pbf::runScene(scene, options);
+    for (int f = 0; f <= 2; ++f) {
+        const pbf::ParticleFrame ply = pbf::readParticlesPly(dir / pbf::frameFileName(f));
+        const pbf::ParticleFrame vdb =
+            readParticlesVdb(dir / ("frame_" + std::to_string(f) + ".vdb"));
+        ASSERT_EQ(vdb.position.size(), ply.position.size());
+        for (std::size_t k = 0; k < ply.position.size(); ++k) {
+            EXPECT_EQ(vdb.id[k], ply.id[k]);
+            EXPECT_EQ(vdb.velocity[k], ply.velocity[k]);
+            EXPECT_LT(length(vdb.position[k] - ply.position[k]), 1e-6f);
+        }
+    }
     fs::remove_all(dir);
 }
 
