@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
-  libopenvdb-dev libtbb-dev libtinyobjloader-dev
+  libopenvdb-dev libtbb-dev libtinyobjloader-dev libboost-iostreams-dev
   # pbf_render (PBF_BUILD_VIEWER): viewer, headless EGL rendering, images, video, viewer test
   libglfw3-dev libepoxy-dev libimgui-dev libglm-dev libstb-dev
   libegl-dev libegl-mesa0 libgl1 libglx-mesa0 libgl1-mesa-dri ffmpeg xvfb xauth

@@ -39,6 +39,7 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const R
     j["scene"] = scene.name;
     j["scene_file"] = scene.source;
     j["frames"] = s.frames;
+    j["particle_radius"] = scene.simulation.particleRadius;  // read by `pbf mesh`
     j["particles"] = s.particles;
     j["simulated_seconds"] = s.simulatedSeconds;
     j["wall_seconds"] = s.wallSeconds;
@@ -72,6 +73,7 @@ RunSummary runScene(const Scene& scene, const RunOptions& options) {
         if (options.writeParticles)
             writeParticlesPly(options.outputDirectory / frameFileName(report.frame),
                               simulation.particles());
+        if (options.writeFrame) options.writeFrame(report.frame, simulation.particles());
         csv += statsCsvRow(report) + "\n";
         writeFileAtomically(options.outputDirectory / "stats.csv",
                             [&](std::ostream& out) { out << csv; });

@@ -297,6 +297,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.directory = o.string("directory", "out/" + scene.name);
         if (out.directory.empty()) o.fail("directory", "must not be empty");
         out.writeParticles = o.boolean("particles", out.writeParticles);
+        out.writeVdbPoints = o.boolean("vdb_points", out.writeVdbPoints);
         o.finish();
     }
     readSolids(root, scene);

@@ -14,5 +14,6 @@ std::function<int()> addBenchCommand(CLI::App& app);
 std::function<int()> addViewCommand(CLI::App& app);
 std::function<int()> addRenderCommand(CLI::App& app);
 #endif
+std::function<int()> addMeshCommand(CLI::App& app);
 
 }  // namespace pbf::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     const auto view = pbf::cli::addViewCommand(app);
     const auto render = pbf::cli::addRenderCommand(app);
 #endif
+    const auto mesh = pbf::cli::addMeshCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("view")) return view();
         if (app.got_subcommand("render")) return render();
 #endif
+        if (app.got_subcommand("mesh")) return mesh();
     } catch (const std::exception& e) {
         pbf::cli::printError(e.what());
         return 1;

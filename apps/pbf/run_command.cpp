@@ -7,8 +7,10 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "mesh_job.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
+#include "pbf/surface/vdb_points.hpp"
 #include "pbf/threading.hpp"
 
 namespace pbf::cli {
@@ -22,6 +24,8 @@ struct RunArguments {
     std::vector<std::string> overrides;
     bool noParticles = false;
     bool quiet = false;
+    bool vdbPoints = false;
+    bool mesh = false;
 };
 
 int runScene(const RunArguments& args) {
@@ -31,6 +35,9 @@ int runScene(const RunArguments& args) {
     if (args.frames > 0) scene.output.frames = args.frames;
     if (!args.out.empty()) scene.output.directory = args.out;
     if (args.noParticles) scene.output.writeParticles = false;
+    if (args.vdbPoints) scene.output.writeVdbPoints = true;
+    if (args.mesh && !scene.output.writeParticles)
+        throw SceneError("--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
     if (args.threads > 0) setThreadCount(args.threads);
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(scene, available);
@@ -57,6 +64,10 @@ int runScene(const RunArguments& args) {
             fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n", e.discSize(),
                        e.rate());
     };
+    if (scene.output.writeVdbPoints)
+        options.writeFrame = [&](int frame, const ParticleStore& store) {
+            surface::writeParticlesVdb(options.outputDirectory / fmt::format("frame_{:05d}.vdb", frame), store);
+        };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
                         fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
@@ -80,6 +91,13 @@ int runScene(const RunArguments& args) {
                                s.maxEscaped, scene.output.directory));
         return 3;
     }
+    if (args.mesh) {
+        surface::MeshJob job;
+        job.input = scene.output.directory;
+        job.params.particleRadius = scene.simulation.particleRadius;
+        if (args.threads > 0) job.threads = args.threads;
+        return runMeshJob(job, args.quiet);
+    }
     return 0;
 }
 
@@ -102,6 +120,10 @@ std::function<int()> addRunCommand(CLI::App& app) {
            "Override a scene field, e.g. --set solver.iterations=8 --set fluid.viscosity=0.02")
         ->take_all();
     run->add_flag("--no-particles", args->noParticles, "Do not write PLY frames (stats only)");
+    run->add_flag("--vdb-points", args->vdbPoints,
+                  "Also write OpenVDB point caches frame_NNNNN.vdb (as output.vdb_points=true)");
+    run->add_flag("--mesh", args->mesh,
+                  "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` has the options)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
     return [args] { return runScene(*args); };
 }

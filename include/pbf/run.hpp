@@ -22,6 +22,9 @@ struct RunOptions {
     std::filesystem::path outputDirectory;  // created if missing
     int frames = 0;                         // frames after the initial one
     bool writeParticles = true;
+    // Writes further per-frame files (e.g. OpenVDB points, which libpbf's
+    // core does not link), before onFrame; may be empty.
+    std::function<void(int frame, const ParticleStore& particles)> writeFrame;
     // Called after every frame (progress display); may be empty.
     std::function<void(const FrameReport&)> onFrame;
     // Called once the scene is built (solids loaded, blocks filled); may be empty.

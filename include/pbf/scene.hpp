@@ -66,6 +66,7 @@ struct OutputParams {
     int frames = 90;             // frames to simulate, [1, 1e6]
     std::string directory;       // default "out/<scene name>"
     bool writeParticles = true;  // binary PLY per frame
+    bool writeVdbPoints = false; // OpenVDB points per frame (frame_NNNNN.vdb, pbf_surface)
 };
 
 struct Scene {
