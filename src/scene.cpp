@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "hash.hpp"
 #include "json_reader.hpp"
 
 namespace pbf {
@@ -116,6 +117,20 @@ void readFluidBlocks(JsonReader& root, Scene& scene) {
     }
 }
 
+// The fingerprint covers everything that shapes the simulated states. The
+// document is hashed as nlohmann::json dumps it (keys sorted, numbers
+// normalised), so formatting and key order do not matter, and fields added
+// to the format later are covered without changes here.
+std::uint64_t fingerprintOf(json document) {
+    document.erase("name");
+    if (auto out = document.find("output"); out != document.end() && out->is_object()) {
+        json kept = json::object();
+        if (out->contains("fps")) kept["fps"] = (*out)["fps"];
+        *out = kept;
+    }
+    return detail::fnv1a64(document.dump());
+}
+
 std::string defaultName(const std::string& source) {
     const std::string stem = std::filesystem::path(source).stem().string();
     return stem.empty() ? "scene" : stem;
@@ -181,10 +196,23 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.directory = o.string("directory", "out/" + scene.name);
         if (out.directory.empty()) o.fail("directory", "must not be empty");
         out.writeParticles = o.boolean("particles", out.writeParticles);
+        out.checkpointEvery = o.integer("checkpoint_every", out.checkpointEvery);
+        if (out.checkpointEvery < 0 || out.checkpointEvery > 1000000)
+            o.fail("checkpoint_every", "must be in [0, 1000000] frames (0: off)");
+        out.checkpointSeconds = o.number("checkpoint_seconds", out.checkpointSeconds);
+        if (!(out.checkpointSeconds >= 0.0f && out.checkpointSeconds <= 1e6f))
+            o.fail("checkpoint_seconds", "must be in [0, 1000000] seconds (0: off)");
+        out.maxSpeed = o.number("max_speed", out.maxSpeed);
+        if (!(out.maxSpeed >= 0.0f && out.maxSpeed <= 1e6f))
+            o.fail("max_speed", "must be in [0, 1000000] m/s (0: automatic)");
+        out.maxSpeedFactor = o.number("max_speed_factor", out.maxSpeedFactor);
+        if (!(out.maxSpeedFactor >= 1.0f && out.maxSpeedFactor <= 1e4f))
+            o.fail("max_speed_factor", "must be in [1, 10000]");
         o.finish();
     }
     readFluidBlocks(root, scene);
     root.finish();
+    scene.fingerprint = fingerprintOf(std::move(document));
     return scene;
 }
 

@@ -1,12 +1,38 @@
 #include "pbf/simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "pbf/state_guard.hpp"
 
 namespace pbf {
 
 Simulation::Simulation(const Scene& scene)
-    : scene_(scene), particles_(createParticles(scene)), solver_(scene.simulation) {}
+    : scene_(scene),
+      particles_(createParticles(scene)),
+      solver_(scene.simulation),
+      speedLimit_(pbf::speedLimit(scene)) {}
+
+void Simulation::restore(ParticleStore particles, int frame, double time) {
+    particles_ = std::move(particles);
+    frame_ = frame;
+    time_ = time;
+}
+
+void Simulation::checkState(int substep, double time, const char* stage) const {
+    const std::optional<BadParticle> bad = findBadParticle(particles_, speedLimit_);
+    if (!bad) return;
+    const int frame = frame_ + 1;
+    std::string message = fmt::format(
+        "bad state in frame {} substep {} ({}, t = {:.6f} s): particle id {} at ({:.6g}, {:.6g}, "
+        "{:.6g}): {}",
+        frame, substep, stage, time, bad->id, bad->position.x, bad->position.y, bad->position.z,
+        bad->problem);
+    throw StateError(message, frame, substep, stage, *bad);
+}
 
 double Simulation::adaptiveSubstep(double remaining) const {
     const SolverParams& s = scene_.simulation.solver;
@@ -25,6 +51,11 @@ FrameReport Simulation::advanceFrame() {
     FrameReport report;
     double remaining = frameDt;
     int substeps = 0;
+    // The guard runs on the state handed in (a user or a resumed checkpoint
+    // may have put NaN there) and after every substep, so no bad state
+    // reaches the frame's outputs.
+    checkState(0, time_, "before the first solver step of the frame");
+    double elapsed = 0.0;
     while (remaining > 1e-12 * frameDt) {
         double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
                                                           : adaptiveSubstep(remaining);
@@ -37,7 +68,9 @@ FrameReport Simulation::advanceFrame() {
         report.stageMs.postProcess += t.postProcess;
         report.stageMs.total += t.total;
         remaining -= dt;
+        elapsed += dt;
         ++substeps;
+        checkState(substeps, frame_ * frameDt + elapsed, "after solver step");
     }
     ++frame_;
     time_ = frame_ * frameDt;  // no drift from summing substeps

@@ -35,6 +35,9 @@ public:
     double frameDuration() const { return 1.0 / scene_.output.fps; }
 
     // Simulates one output frame (1 / fps seconds) and reports on it.
+    // Throws StateError (include/pbf/state_guard.hpp) when the state is bad
+    // before the frame or after any of its substeps; the particles are then
+    // left as the failing step made them.
     FrameReport advanceFrame();
     // Statistics of the current state (frame 0 before any step).
     FrameReport report() const;
@@ -45,12 +48,25 @@ public:
     // out so that the frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
 
+    // Speed above which the state guard stops the run (m/s; <= 0: no speed
+    // check). Defaults to speedLimit(scene).
+    double speedLimit() const { return speedLimit_; }
+    void setSpeedLimit(double metresPerSecond) { speedLimit_ = metresPerSecond; }
+
+    // Replaces the state by a saved one: the particles in their memory order
+    // (the solver's stable sort depends on it, so resuming needs the exact
+    // order for bit-identical results), the frame counter and the time.
+    void restore(ParticleStore particles, int frame, double time);
+
 private:
+    void checkState(int substep, double time, const char* stage) const;
+
     Scene scene_;
     ParticleStore particles_;
     Solver solver_;
     int frame_ = 0;
     double time_ = 0.0;
+    double speedLimit_ = 0.0;
 };
 
 }  // namespace pbf
