@@ -171,6 +171,7 @@ RunSummary RunDriver::run() {
     } else {
         totals_.statsCsv = statsCsvHeader() + "\n";
         record(simulation_.report());
+        lastCheckpointFrame_ = 0;  // frame 0 is recreated from the scene; no checkpoint needed
     }
     warnIfDiskTooSmall();
     while (simulation_.frame() < options_.frames) {

@@ -126,7 +126,8 @@ std::uint64_t fingerprintOf(json document) {
     if (auto out = document.find("output"); out != document.end() && out->is_object()) {
         json kept = json::object();
         if (out->contains("fps")) kept["fps"] = (*out)["fps"];
-        *out = kept;
+        if (kept.empty()) document.erase(out);
+        else *out = kept;
     }
     return detail::fnv1a64(document.dump());
 }
