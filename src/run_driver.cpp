@@ -51,11 +51,24 @@ void RunDriver::createDirectory() const {
         throw IoError(dir_.string() + ": cannot create output directory" + (ec ? " (" + ec.message() + ")" : ""));
 }
 
+// A run killed while writing leaves the temporary file of writeFileAtomically
+// (".frame_00012.ply.tmp123456"); the file it was to replace is whole.
+void RunDriver::removeStaleTemporaries() const {
+    std::error_code ec;
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() > 1 && name[0] == '.' && name.find(".tmp") != std::string::npos &&
+            entry.is_regular_file(ec))
+            fs::remove(entry.path(), ec);
+    }
+}
+
 void RunDriver::resumeFromCheckpoint() {
     const fs::path file = dir_ / kCheckpointFileName;
     std::error_code ec;
     if (!fs::exists(file, ec))
         throw IoError(file.string() + ": no checkpoint to resume from; run without --resume to start at frame 0");
+    removeStaleTemporaries();
     Checkpoint checkpoint = readCheckpoint(file);
     restoreCheckpoint(checkpoint, simulation_, file.string());
     totals_ = std::move(checkpoint.totals);

@@ -28,6 +28,7 @@ private:
     }
     void createDirectory() const;
     void resumeFromCheckpoint();
+    void removeStaleTemporaries() const;
     void warnIfDiskTooSmall() const;
     void checkFreeSpace() const;
     void record(const FrameReport& report);
