@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pbf builds with. Safe to run repeatedly.
 # Runs apt-get as root (directly, or through sudo when available).
+# Usage: scripts/install_deps.sh [--clang]
+#   --clang: also clang and LLVM's OpenMP runtime, for the fuzzers
+#            (scripts/fuzz.sh) and the ThreadSanitizer build (scripts/tsan.sh).
 set -euo pipefail
 
 packages=(
@@ -8,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev
 )
+if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

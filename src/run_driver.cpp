@@ -30,7 +30,7 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const R
     j["max_escaped"] = s.maxEscaped;
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
-    writeFileAtomically(file, [&](std::ostream& out) { out << j.dump(2) << "\n"; });
+    writeFileAtomically(file, [&](std::ostream& out) { out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"; });
 }
 
 namespace fs = std::filesystem;

@@ -22,7 +22,30 @@ long long latticeCount(float extent, float spacing) {
     return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
 }
 
+// nlohmann::json parses iteratively but dumps recursively (error messages
+// quote values, the fingerprint dumps the document): a scene nested 10^6
+// levels deep overflowed the stack (found by fuzz/fuzz_scene). Scenes nest
+// 4 levels; more than kMaxNesting is refused while parsing.
+constexpr int kMaxNesting = 64;
+constexpr std::size_t kMaxOverrideDepth = 16;
+
+// Parses JSON (comments allowed); discarded on a syntax error; sets
+// `tooDeep` (and discards) when nested deeper than kMaxNesting.
+json parseLimited(std::string_view text, bool& tooDeep) {
+    tooDeep = false;
+    const json::parser_callback_t limit = [&tooDeep](int depth, json::parse_event_t, json&) {
+        if (depth > kMaxNesting) tooDeep = true;
+        return !tooDeep;
+    };
+    json value = json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    if (tooDeep) value = json(json::value_t::discarded);
+    return value;
+}
+
 void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
+    if (std::count(o.path.begin(), o.path.end(), '.') >= static_cast<std::ptrdiff_t>(kMaxOverrideDepth))
+        throw SceneError(file + ": --set " + o.path.substr(0, 200) + ": more than " +
+                         std::to_string(kMaxOverrideDepth) + " levels of fields");
     json* node = &document;
     std::stringstream parts(o.path);
     std::string part;
@@ -47,7 +70,11 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
             node = &(*node)[part];
         }
     }
-    json value = json::parse(o.value, nullptr, /*allow_exceptions=*/false);
+    bool tooDeep = false;
+    json value = parseLimited(o.value, tooDeep);
+    if (tooDeep)
+        throw SceneError(file + ": --set " + o.path + ": value nested deeper than " + std::to_string(kMaxNesting) +
+                         " levels");
     *node = value.is_discarded() ? json(o.value) : std::move(value);
 }
 
@@ -129,7 +156,7 @@ std::uint64_t fingerprintOf(json document) {
         if (kept.empty()) document.erase(out);
         else *out = kept;
     }
-    return detail::fnv1a64(document.dump());
+    return detail::fnv1a64(document.dump(-1, ' ', false, json::error_handler_t::replace));
 }
 
 std::string defaultName(const std::string& source) {
@@ -148,12 +175,17 @@ SceneOverride parseOverride(std::string_view assignment) {
 
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides) {
-    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    bool tooDeep = false;
+    json document = parseLimited(jsonText, tooDeep);
+    if (tooDeep)
+        throw SceneError(sourceName + ": JSON nested deeper than " + std::to_string(kMaxNesting) +
+                         " levels (a scene needs 4)");
     if (document.is_discarded()) {
         // Parse again with exceptions for the position of the error.
         try {
             document = json::parse(jsonText, nullptr, true, true);
-        } catch (const json::parse_error& e) {
+        } catch (const json::exception& e) {
+            // parse_error, and out_of_range for numbers beyond double (found by fuzz/fuzz_scene).
             throw SceneError(sourceName + ": not valid JSON: " + e.what());
         }
     }
