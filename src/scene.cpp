@@ -29,17 +29,32 @@ long long latticeCount(float extent, float spacing) {
 constexpr int kMaxNesting = 64;
 constexpr std::size_t kMaxOverrideDepth = 16;
 
-// Parses JSON (comments allowed); discarded on a syntax error; sets
-// `tooDeep` (and discards) when nested deeper than kMaxNesting.
-json parseLimited(std::string_view text, bool& tooDeep) {
-    tooDeep = false;
+// True when `text` nests arrays or objects deeper than kMaxNesting (the
+// parser is iterative, so checking is safe; syntax errors are left to the
+// real parse).
+bool nestedTooDeep(std::string_view text) {
+    bool tooDeep = false;
     const json::parser_callback_t limit = [&tooDeep](int depth, json::parse_event_t, json&) {
         if (depth > kMaxNesting) tooDeep = true;
-        return !tooDeep;
+        return !tooDeep;  // discard what is too deep instead of building it
     };
-    json value = json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
-    if (tooDeep) value = json(json::value_t::discarded);
-    return value;
+    [[maybe_unused]] const json parsed = json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    return tooDeep;
+}
+
+// "key: " for the last key before the number quoted in nlohmann's message
+// "number overflow parsing '1e999'", or "" when it cannot be found.
+std::string fieldOfNumber(std::string_view text, const std::string& message) {
+    const std::size_t open = message.find('\'');
+    const std::size_t close = message.rfind('\'');
+    if (open == std::string::npos || close <= open + 1) return {};
+    const std::size_t at = text.find(message.substr(open + 1, close - open - 1));
+    if (at == std::string_view::npos) return {};
+    const std::size_t colon = text.rfind(':', at);
+    const std::size_t end = colon == std::string_view::npos ? colon : text.rfind('"', colon);
+    const std::size_t begin = end == std::string_view::npos || end == 0 ? end : text.rfind('"', end - 1);
+    if (begin == std::string_view::npos || end == std::string_view::npos) return {};
+    return std::string(text.substr(begin + 1, end - begin - 1)) + ": ";
 }
 
 void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
@@ -70,11 +85,10 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
             node = &(*node)[part];
         }
     }
-    bool tooDeep = false;
-    json value = parseLimited(o.value, tooDeep);
-    if (tooDeep)
+    if (nestedTooDeep(o.value))
         throw SceneError(file + ": --set " + o.path + ": value nested deeper than " + std::to_string(kMaxNesting) +
                          " levels");
+    json value = json::parse(o.value, nullptr, /*allow_exceptions=*/false);
     *node = value.is_discarded() ? json(o.value) : std::move(value);
 }
 
@@ -175,17 +189,20 @@ SceneOverride parseOverride(std::string_view assignment) {
 
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides) {
-    bool tooDeep = false;
-    json document = parseLimited(jsonText, tooDeep);
-    if (tooDeep)
+    if (nestedTooDeep(jsonText))
         throw SceneError(sourceName + ": JSON nested deeper than " + std::to_string(kMaxNesting) +
                          " levels (a scene needs 4)");
+    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
     if (document.is_discarded()) {
         // Parse again with exceptions for the position of the error.
         try {
             document = json::parse(jsonText, nullptr, true, true);
+        } catch (const json::out_of_range& e) {
+            // A number beyond double, e.g. 1e999: nlohmann throws out_of_range,
+            // not parse_error (an uncaught exception found by fuzz/fuzz_scene).
+            throw SceneError(sourceName + ": " + fieldOfNumber(jsonText, e.what()) +
+                             "number out of range (" + e.what() + ")");
         } catch (const json::exception& e) {
-            // parse_error, and out_of_range for numbers beyond double (found by fuzz/fuzz_scene).
             throw SceneError(sourceName + ": not valid JSON: " + e.what());
         }
     }
