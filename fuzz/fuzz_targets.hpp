@@ -27,7 +27,8 @@ inline bool scene(std::string_view text) {
         const Scene s = parseScene(text, "fuzz.json");
         checkMemory(s, std::size_t{1} << 20);  // refuses anything but tiny scenes
         const ParticleStore particles = createParticles(s);
-        if (particles.size() != countParticles(s)) throw std::logic_error("particle count mismatch");
+        if (particles.size() != countParticles(s))
+            throw std::logic_error("particle count mismatch");
         return true;
     } catch (const SceneError&) {
         return false;
@@ -71,7 +72,8 @@ inline bool ply(std::string_view bytes) {
     try {
         const ParticleFrame frame = readParticlesPly(in, "fuzz.ply");
         // 12 bytes per particle at least: never more particles than the input holds.
-        if (frame.position.size() > bytes.size() / 12) throw std::logic_error("more particles than bytes");
+        if (frame.position.size() > bytes.size() / 12)
+            throw std::logic_error("more particles than bytes");
         return true;
     } catch (const IoError&) {
         return false;

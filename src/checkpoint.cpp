@@ -17,7 +17,8 @@
 namespace pbf {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "checkpoints assume a little-endian host");
+static_assert(std::endian::native == std::endian::little,
+              "checkpoints assume a little-endian host");
 
 constexpr char kMagic[8] = {'P', 'B', 'F', 'C', 'K', 'P', 'T', '\n'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
@@ -28,7 +29,7 @@ constexpr std::uint64_t kMaxStringBytes = std::uint64_t{1} << 40;
 }
 
 class Writer {
-public:
+  public:
     template <class T>
     void value(const T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
@@ -45,14 +46,14 @@ public:
     }
     const std::string& bytes() const { return bytes_; }
 
-private:
+  private:
     std::string bytes_;
 };
 
 // Bounds-checked reads from the payload: a corrupt length can never make it
 // read past the end or allocate more than the file holds.
 class Reader {
-public:
+  public:
     Reader(const std::string& bytes, const std::string& name) : bytes_(bytes), name_(name) {}
 
     template <class T>
@@ -66,14 +67,16 @@ public:
     template <class T>
     void array(std::vector<T>& out, const char* what) {
         const auto n = value<std::uint64_t>(what);
-        if (n > (bytes_.size() - pos_) / sizeof(T)) fail(name_, std::string("corrupt checkpoint: ") + what + " length");
+        if (n > (bytes_.size() - pos_) / sizeof(T))
+            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
         out.resize(static_cast<std::size_t>(n));
         std::memcpy(out.data(), bytes_.data() + pos_, out.size() * sizeof(T));
         pos_ += out.size() * sizeof(T);
     }
     std::string string(const char* what) {
         const auto n = value<std::uint64_t>(what);
-        if (n > kMaxStringBytes) fail(name_, std::string("corrupt checkpoint: ") + what + " length");
+        if (n > kMaxStringBytes)
+            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
         need(static_cast<std::size_t>(n), what);
         std::string s = bytes_.substr(pos_, static_cast<std::size_t>(n));
         pos_ += s.size();
@@ -81,9 +84,10 @@ public:
     }
     bool atEnd() const { return pos_ == bytes_.size(); }
 
-private:
+  private:
     void need(std::size_t n, const char* what) const {
-        if (n > bytes_.size() - pos_) fail(name_, std::string("corrupt checkpoint: truncated at ") + what);
+        if (n > bytes_.size() - pos_)
+            fail(name_, std::string("corrupt checkpoint: truncated at ") + what);
     }
     const std::string& bytes_;
     const std::string& name_;
@@ -147,14 +151,16 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     // The checksum passed, so these only fail for a file written by a buggy
     // or foreign program; still, never hand an inconsistent store to the solver.
     const std::size_t n = p.id.size();
-    for (const std::size_t size : {p.position.x.size(), p.position.y.size(), p.position.z.size(),
-                                   p.velocity.x.size(), p.velocity.y.size(), p.velocity.z.size(),
-                                   p.density.size()})
+    for (const std::size_t size :
+         {p.position.x.size(), p.position.y.size(), p.position.z.size(), p.velocity.x.size(),
+          p.velocity.y.size(), p.velocity.z.size(), p.density.size()})
         if (size != n) fail(name, "corrupt checkpoint: particle arrays of different lengths");
-    if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0) fail(name, "corrupt checkpoint: bad frame or time");
+    if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
+        fail(name, "corrupt checkpoint: bad frame or time");
     std::vector<std::uint32_t> ids = p.id;
     std::sort(ids.begin(), ids.end());
-    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() || (!ids.empty() && ids.back() >= nextId))
+    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() ||
+        (!ids.empty() && ids.back() >= nextId))
         fail(name, "corrupt checkpoint: particle ids are not unique or exceed the next id");
     p.predicted = p.position;
     p.setNextId(nextId);
@@ -175,14 +181,18 @@ Checkpoint captureCheckpoint(const Simulation& simulation) {
 
 void restoreCheckpoint(const Checkpoint& c, Simulation& simulation, const std::string& name) {
     if (c.pbfVersion != kVersion)
-        fail(name, fmt::format("checkpoint written by pbf {}, this is pbf {}: solvers of different versions "
-                               "give different results; start the run again without --resume",
-                               c.pbfVersion, kVersion));
+        fail(name,
+             fmt::format(
+                 "checkpoint written by pbf {}, this is pbf {}: solvers of different versions "
+                 "give different results; start the run again without --resume",
+                 c.pbfVersion, kVersion));
     if (c.sceneFingerprint != simulation.scene().fingerprint)
-        fail(name, fmt::format("checkpoint belongs to a different scene (fingerprint {:016x}, this scene and "
-                               "its --set overrides give {:016x}): resume with the same scene and the same "
-                               "overrides, or start again without --resume",
-                               c.sceneFingerprint, simulation.scene().fingerprint));
+        fail(name,
+             fmt::format(
+                 "checkpoint belongs to a different scene (fingerprint {:016x}, this scene and "
+                 "its --set overrides give {:016x}): resume with the same scene and the same "
+                 "overrides, or start again without --resume",
+                 c.sceneFingerprint, simulation.scene().fingerprint));
     ParticleStore p = c.particles;
     p.predicted = p.position;
     simulation.restore(std::move(p), c.frame, c.time);
@@ -207,15 +217,17 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
     char header[kHeaderBytes];
     if (!in.read(header, sizeof(header)))
         fail(name, "not a pbf checkpoint (shorter than the checkpoint header)");
-    if (std::memcmp(header, kMagic, sizeof(kMagic)) != 0) fail(name, "not a pbf checkpoint (bad magic)");
+    if (std::memcmp(header, kMagic, sizeof(kMagic)) != 0)
+        fail(name, "not a pbf checkpoint (bad magic)");
     std::uint32_t version = 0;
     std::uint64_t size = 0, hash = 0;
     std::memcpy(&version, header + 8, 4);
     std::memcpy(&size, header + 16, 8);
     std::memcpy(&hash, header + 24, 8);
     if (version != kCheckpointFormatVersion)
-        fail(name, fmt::format("checkpoint format version {} is not supported (this pbf reads version {})",
-                               version, kCheckpointFormatVersion));
+        fail(name, fmt::format(
+                       "checkpoint format version {} is not supported (this pbf reads version {})",
+                       version, kCheckpointFormatVersion));
     // Compare the declared size with what the stream holds before allocating.
     const auto start = in.tellg();
     in.seekg(0, std::ios::end);
@@ -224,11 +236,13 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
     if (start < 0 || end < start) fail(name, "cannot determine the checkpoint's size");
     const auto available = static_cast<std::uint64_t>(end - start);
     if (size != available)
-        fail(name, fmt::format("checkpoint is truncated or has trailing data ({} payload bytes declared, "
-                               "{} present)",
-                               size, available));
+        fail(name,
+             fmt::format("checkpoint is truncated or has trailing data ({} payload bytes declared, "
+                         "{} present)",
+                         size, available));
     std::string payload(static_cast<std::size_t>(size), '\0');
-    if (!in.read(payload.data(), static_cast<std::streamsize>(size))) fail(name, "cannot read the checkpoint");
+    if (!in.read(payload.data(), static_cast<std::streamsize>(size)))
+        fail(name, "cannot read the checkpoint");
     if (detail::fnv1a64(payload) != hash) fail(name, "checkpoint is corrupt (checksum mismatch)");
     return deserialize(payload, name);
 }

@@ -21,6 +21,8 @@ inline std::uint64_t fnv1a64(const void* data, std::size_t size,
     return hash;
 }
 
-inline std::uint64_t fnv1a64(std::string_view text) { return fnv1a64(text.data(), text.size()); }
+inline std::uint64_t fnv1a64(std::string_view text) {
+    return fnv1a64(text.data(), text.size());
+}
 
 }  // namespace pbf::detail

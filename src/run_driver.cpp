@@ -1,9 +1,9 @@
 #include "run_driver.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <system_error>
 
 #include "pbf/io.hpp"
@@ -12,7 +12,6 @@
 
 namespace pbf::detail {
 namespace {
-
 
 void writeSummary(const std::filesystem::path& file, const Scene& scene, const RunSummary& s) {
     nlohmann::json j;
@@ -30,7 +29,9 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const R
     j["max_escaped"] = s.maxEscaped;
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
-    writeFileAtomically(file, [&](std::ostream& out) { out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n"; });
+    writeFileAtomically(file, [&](std::ostream& out) {
+        out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+    });
 }
 
 namespace fs = std::filesystem;
@@ -39,8 +40,9 @@ using Clock = std::chrono::steady_clock;
 constexpr double kMiB = 1024.0 * 1024.0;
 
 // Bytes of one PLY frame (header and 32 bytes per particle).
-std::uintmax_t plyBytes(std::size_t particles) { return 512 + std::uintmax_t{particles} * 32; }
-
+std::uintmax_t plyBytes(std::size_t particles) {
+    return 512 + std::uintmax_t{particles} * 32;
+}
 
 }  // namespace
 
@@ -48,7 +50,8 @@ void RunDriver::createDirectory() const {
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec || !fs::is_directory(dir_))
-        throw IoError(dir_.string() + ": cannot create output directory" + (ec ? " (" + ec.message() + ")" : ""));
+        throw IoError(dir_.string() + ": cannot create output directory" +
+                      (ec ? " (" + ec.message() + ")" : ""));
 }
 
 // A run killed while writing leaves the temporary file of writeFileAtomically
@@ -67,7 +70,8 @@ void RunDriver::resumeFromCheckpoint() {
     const fs::path file = dir_ / kCheckpointFileName;
     std::error_code ec;
     if (!fs::exists(file, ec))
-        throw IoError(file.string() + ": no checkpoint to resume from; run without --resume to start at frame 0");
+        throw IoError(file.string() +
+                      ": no checkpoint to resume from; run without --resume to start at frame 0");
     removeStaleTemporaries();
     Checkpoint checkpoint = readCheckpoint(file);
     restoreCheckpoint(checkpoint, simulation_, file.string());
@@ -80,10 +84,10 @@ void RunDriver::resumeFromCheckpoint() {
     // killed run: put it back to the checkpoint's rows; they are recomputed.
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
     notice(simulation_.frame() >= options_.frames
-               ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}", file.string(),
-                             simulation_.frame(), options_.frames)
-               : fmt::format("resuming from frame {} of {} ({})", simulation_.frame(), options_.frames,
-                             file.string()));
+               ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}",
+                             file.string(), simulation_.frame(), options_.frames)
+               : fmt::format("resuming from frame {} of {} ({})", simulation_.frame(),
+                             options_.frames, file.string()));
 }
 
 void RunDriver::warnIfDiskTooSmall() const {
@@ -95,9 +99,10 @@ void RunDriver::warnIfDiskTooSmall() const {
     const double needed = double(options_.writeParticles ? plyBytes(n) : 0) * remaining +
                           double(checkpointBytes(n, totals_.statsCsv.size()));
     if (double(space.available) < needed)
-        notice(fmt::format("{}: the {} remaining frames need about {:.0f} MiB but only {:.0f} MiB are free; the "
-                           "run will stop when the disk is full (continue it with --resume after freeing space)",
-                           dir_.string(), remaining, needed / kMiB, double(space.available) / kMiB));
+        notice(fmt::format(
+            "{}: the {} remaining frames need about {:.0f} MiB but only {:.0f} MiB are free; the "
+            "run will stop when the disk is full (continue it with --resume after freeing space)",
+            dir_.string(), remaining, needed / kMiB, double(space.available) / kMiB));
 }
 
 // Refuses to start a frame whose files would not fit: a full disk is
@@ -108,14 +113,17 @@ void RunDriver::checkFreeSpace() const {
     const fs::space_info space = fs::space(dir_, ec);
     if (ec) return;  // unknown (some network file systems): the writes report failures
     const std::size_t n = simulation_.particles().size();
-    const std::uintmax_t frame = (options_.writeParticles ? plyBytes(n) : 0) + totals_.statsCsv.size() + 256;
+    const std::uintmax_t frame =
+        (options_.writeParticles ? plyBytes(n) : 0) + totals_.statsCsv.size() + 256;
     const std::uintmax_t needed = frame + checkpointBytes(n, totals_.statsCsv.size());
     if (space.available < needed + options_.reserveBytes)
-        throw IoError(fmt::format(
-            "{}: output disk full: {:.1f} MiB free, but the next frame and its checkpoint need {:.1f} MiB and "
-            "{:.1f} MiB are kept in reserve; free space or choose another --out, then continue with --resume",
-            dir_.string(), double(space.available) / kMiB, double(needed) / kMiB,
-            double(options_.reserveBytes) / kMiB));
+        throw IoError(
+            fmt::format("{}: output disk full: {:.1f} MiB free, but the next frame and its "
+                        "checkpoint need {:.1f} MiB and "
+                        "{:.1f} MiB are kept in reserve; free space or choose another --out, then "
+                        "continue with --resume",
+                        dir_.string(), double(space.available) / kMiB, double(needed) / kMiB,
+                        double(options_.reserveBytes) / kMiB));
 }
 
 void RunDriver::record(const FrameReport& report) {
@@ -153,7 +161,8 @@ void RunDriver::saveLastGood() {
 
 bool RunDriver::checkpointDue() const {
     const int frames = simulation_.frame() - lastCheckpointFrame_;
-    const double seconds = std::chrono::duration<double>(Clock::now() - lastCheckpointTime_).count();
+    const double seconds =
+        std::chrono::duration<double>(Clock::now() - lastCheckpointTime_).count();
     return (options_.checkpointEvery > 0 && frames >= options_.checkpointEvery) ||
            (options_.checkpointSeconds > 0.0 && seconds >= options_.checkpointSeconds);
 }
@@ -164,10 +173,11 @@ void RunDriver::advance() {
         report = simulation_.advanceFrame();
     } catch (const StateError& e) {
         saveLastGood();
-        throw StateError(fmt::format("{}; the run stopped: frames up to {} are good and their state is saved "
-                                     "in {} (raise output.max_speed or change the scene to go on)",
-                                     e.what(), lastGood_.frame, summary_.checkpoint.string()),
-                         e.frame, e.substep, e.stage, e.particle);
+        throw StateError(
+            fmt::format("{}; the run stopped: frames up to {} are good and their state is saved "
+                        "in {} (raise output.max_speed or change the scene to go on)",
+                        e.what(), lastGood_.frame, summary_.checkpoint.string()),
+            e.frame, e.substep, e.stage, e.particle);
     }
     record(report);
 }
@@ -207,9 +217,10 @@ RunSummary RunDriver::run() {
     s.maxDensityError = totals_.maxDensityError;
     s.maxEscaped = static_cast<std::size_t>(totals_.maxEscaped);
     s.averageDensityError = totals_.densityErrorSum / (simulation_.frame() + 1);
-    s.particleStepsPerSecond = totals_.solverMilliseconds > 0.0
-                                   ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
-                                   : 0.0;
+    s.particleStepsPerSecond =
+        totals_.solverMilliseconds > 0.0
+            ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
+            : 0.0;
     writeSummary(dir_ / "summary.json", scene_, s);
     return s;
 }

@@ -16,13 +16,13 @@ namespace pbf::detail {
 // One run: the simulation, the totals for summary.json and stats.csv, the
 // last good state (saved when the state guard fires) and the checkpoints.
 class RunDriver {
-public:
+  public:
     RunDriver(const Scene& scene, const RunOptions& options)
         : scene_(scene), options_(options), dir_(options.outputDirectory), simulation_(scene) {}
 
     RunSummary run();
 
-private:
+  private:
     void notice(const std::string& message) const {
         if (options_.onNotice) options_.onNotice(message);
     }
@@ -36,7 +36,8 @@ private:
     bool checkpointDue() const;
     void saveLastGood();
     double wallSeconds() const {
-        return previousWallSeconds_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+        return previousWallSeconds_ +
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     }
 
     const Scene& scene_;
@@ -45,7 +46,7 @@ private:
     Simulation simulation_;
     RunTotals totals_;
     RunSummary summary_;
-    Checkpoint lastGood_;           // state and totals after the last recorded frame
+    Checkpoint lastGood_;  // state and totals after the last recorded frame
     std::size_t lastGoodCsvBytes_ = 0;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     double previousWallSeconds_ = 0.0;  // wall time of the sessions before a resume

@@ -22,7 +22,9 @@ struct FirstBad {
     }
 };
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 std::string describeProblem(const Vec3& x, const Vec3& v, double speedLimit) {
     if (!finite(x)) return fmt::format("position is not finite ({}, {}, {})", x.x, x.y, x.z);
@@ -34,22 +36,25 @@ std::string describeProblem(const Vec3& x, const Vec3& v, double speedLimit) {
 }  // namespace
 
 std::optional<BadParticle> findBadParticle(const ParticleStore& p, double speedLimit) {
-    const double limit2 = speedLimit > 0.0 ? speedLimit * speedLimit : std::numeric_limits<double>::infinity();
-    const FirstBad first = detail::parallelSum<FirstBad>(p.size(), [&](std::size_t begin, std::size_t end) {
-        FirstBad bad;
-        for (std::size_t i = begin; i < end; ++i) {
-            const double vx = p.velocity.x[i], vy = p.velocity.y[i], vz = p.velocity.z[i];
-            const double speed2 = vx * vx + vy * vy + vz * vz;
-            const double s = double(p.position.x[i]) + double(p.position.y[i]) + double(p.position.z[i]);
-            // A NaN or infinity in any component makes s or speed2 non-finite;
-            // `!(speed2 <= limit2)` is also true for NaN.
-            if (!std::isfinite(s) || !std::isfinite(speed2) || !(speed2 <= limit2)) {
-                bad.index = i;
-                break;
+    const double limit2 =
+        speedLimit > 0.0 ? speedLimit * speedLimit : std::numeric_limits<double>::infinity();
+    const FirstBad first =
+        detail::parallelSum<FirstBad>(p.size(), [&](std::size_t begin, std::size_t end) {
+            FirstBad bad;
+            for (std::size_t i = begin; i < end; ++i) {
+                const double vx = p.velocity.x[i], vy = p.velocity.y[i], vz = p.velocity.z[i];
+                const double speed2 = vx * vx + vy * vy + vz * vz;
+                const double s =
+                    double(p.position.x[i]) + double(p.position.y[i]) + double(p.position.z[i]);
+                // A NaN or infinity in any component makes s or speed2 non-finite;
+                // `!(speed2 <= limit2)` is also true for NaN.
+                if (!std::isfinite(s) || !std::isfinite(speed2) || !(speed2 <= limit2)) {
+                    bad.index = i;
+                    break;
+                }
             }
-        }
-        return bad;
-    });
+            return bad;
+        });
     if (first.index == std::numeric_limits<std::size_t>::max()) return std::nullopt;
     BadParticle bad;
     bad.index = first.index;
@@ -66,7 +71,8 @@ double speedLimit(const Scene& scene) {
     const double diagonal = length(sim.domain.extent());
     double reference = std::sqrt(2.0 * double(length(sim.gravity)) * diagonal);
     double blockSpeed = 0.0;
-    for (const FluidBlock& b : scene.fluidBlocks) blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
+    for (const FluidBlock& b : scene.fluidBlocks)
+        blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
     reference += blockSpeed;
     if (!(reference > 0.0)) reference = diagonal * scene.output.fps;
     return double(scene.output.maxSpeedFactor) * reference;

@@ -1,5 +1,7 @@
 // Checkpoints: a run resumed from a checkpoint writes the same bytes as one
 // that was never interrupted; damaged or foreign checkpoints are refused.
+#include "pbf/checkpoint.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -8,7 +10,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pbf/checkpoint.hpp"
 #include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/simulation.hpp"
@@ -36,7 +37,8 @@ void expectSameFrames(const fs::path& a, const fs::path& b, int first, int last)
     for (int f = first; f <= last; ++f) {
         const std::string expected = fileBytes(a / pbf::frameFileName(f));
         ASSERT_FALSE(expected.empty()) << f;
-        EXPECT_TRUE(expected == fileBytes(b / pbf::frameFileName(f))) << "frame " << f << " differs";
+        EXPECT_TRUE(expected == fileBytes(b / pbf::frameFileName(f)))
+            << "frame " << f << " differs";
     }
 }
 
@@ -78,7 +80,8 @@ TEST(Checkpoint, ResumedRunWritesBitIdenticalFrames) {
     while (std::getline(csv, line)) ++rows;
     EXPECT_EQ(rows, kFrames + 1);
     // The flow moved: the comparison is of a real flow, not of a frozen state.
-    EXPECT_NE(fileBytes(straight / pbf::frameFileName(0)), fileBytes(straight / pbf::frameFileName(kFrames)));
+    EXPECT_NE(fileBytes(straight / pbf::frameFileName(0)),
+              fileBytes(straight / pbf::frameFileName(kFrames)));
     fs::remove_all(straight);
     fs::remove_all(crashed);
 }
@@ -137,8 +140,9 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     const std::string good = fileBytes(dir / "good.pbfck");
 
     std::ofstream(dir / "truncated.pbfck", std::ios::binary) << good.substr(0, good.size() / 2);
-    EXPECT_NE(expectIoError([&] { pbf::readCheckpoint(dir / "truncated.pbfck"); }).find("truncated"),
-              std::string::npos);
+    EXPECT_NE(
+        expectIoError([&] { pbf::readCheckpoint(dir / "truncated.pbfck"); }).find("truncated"),
+        std::string::npos);
 
     std::string flipped = good;
     flipped[good.size() - 100] = static_cast<char>(flipped[good.size() - 100] ^ 0x10);
@@ -146,7 +150,8 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     EXPECT_NE(expectIoError([&] { pbf::readCheckpoint(dir / "flipped.pbfck"); }).find("checksum"),
               std::string::npos);
 
-    std::ofstream(dir / "foreign.pbfck", std::ios::binary) << "ply\nformat binary_little_endian 1.0\n......";
+    std::ofstream(dir / "foreign.pbfck", std::ios::binary)
+        << "ply\nformat binary_little_endian 1.0\n......";
     const std::string foreign = expectIoError([&] { pbf::readCheckpoint(dir / "foreign.pbfck"); });
     EXPECT_NE(foreign.find("foreign.pbfck"), std::string::npos);
     EXPECT_NE(foreign.find("not a pbf checkpoint"), std::string::npos);
@@ -154,8 +159,9 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     std::string future = good;
     future[8] = 99;  // format version
     std::ofstream(dir / "future.pbfck", std::ios::binary) << future;
-    EXPECT_NE(expectIoError([&] { pbf::readCheckpoint(dir / "future.pbfck"); }).find("format version 99"),
-              std::string::npos);
+    EXPECT_NE(
+        expectIoError([&] { pbf::readCheckpoint(dir / "future.pbfck"); }).find("format version 99"),
+        std::string::npos);
     fs::remove_all(dir);
 }
 
@@ -165,13 +171,16 @@ TEST(Checkpoint, ResumeWithAnotherSceneOrWithoutCheckpointIsRefused) {
     pbf::RunOptions resume = optionsFor(dir, 4);
     resume.resume = true;
     const pbf::Scene other = smallDamBreak({pbf::parseOverride("solver.iterations=5")});
-    EXPECT_NE(expectIoError([&] { pbf::runScene(other, resume); }).find("different scene"), std::string::npos);
+    EXPECT_NE(expectIoError([&] { pbf::runScene(other, resume); }).find("different scene"),
+              std::string::npos);
     // Nothing was overwritten by the refused resume.
     EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(3)));
 
     const fs::path empty = freshTestDirectory("nockpt");
     resume.outputDirectory = empty;
-    EXPECT_NE(expectIoError([&] { pbf::runScene(smallDamBreak(), resume); }).find("no checkpoint to resume from"),
+    EXPECT_NE(expectIoError([&] {
+                  pbf::runScene(smallDamBreak(), resume);
+              }).find("no checkpoint to resume from"),
               std::string::npos);
     fs::remove_all(dir);
     fs::remove_all(empty);

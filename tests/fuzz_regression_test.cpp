@@ -68,27 +68,33 @@ TEST(FuzzRegression, CheckpointInputs) {
 // a data file, so built here.
 TEST(FuzzRegression, DeeplyNestedJsonIsRefused) {
     const std::string deep = std::string(1000000, '[') + std::string(1000000, ']');
-    for (const std::string& field : {std::string("gravity"), std::string("solver\": {\"iterations")}) {
-        const std::string scene = "{\"" + field + "\": " + deep + (field == "gravity" ? "" : "}") +
-                                  R"(, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "particle_radius": 0.02,
+    for (const std::string& field :
+         {std::string("gravity"), std::string("solver\": {\"iterations")}) {
+        const std::string scene =
+            "{\"" + field + "\": " + deep + (field == "gravity" ? "" : "}") +
+            R"(, "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "particle_radius": 0.02,
                                       "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}]})";
         try {
             pbf::parseScene(scene, "deep.json");
             FAIL() << "accepted";
         } catch (const pbf::SceneError& e) {
-            EXPECT_NE(std::string(e.what()).find("deep.json: JSON nested deeper than 64 levels"), std::string::npos)
+            EXPECT_NE(std::string(e.what()).find("deep.json: JSON nested deeper than 64 levels"),
+                      std::string::npos)
                 << std::string(e.what()).substr(0, 200);
         }
     }
     try {
-        pbf::parseScene(pbf::fuzz::kOverrideBaseScene, "base.json", {pbf::parseOverride("gravity=" + deep)});
+        pbf::parseScene(pbf::fuzz::kOverrideBaseScene, "base.json",
+                        {pbf::parseOverride("gravity=" + deep)});
         FAIL() << "accepted";
     } catch (const pbf::SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find("--set gravity: value nested deeper than 64 levels"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("--set gravity: value nested deeper than 64 levels"),
+                  std::string::npos);
     }
     std::string path = "a";
     for (int k = 0; k < 100000; ++k) path += ".a";
-    EXPECT_THROW(pbf::parseScene(pbf::fuzz::kOverrideBaseScene, "base.json", {pbf::parseOverride(path + "=1")}),
+    EXPECT_THROW(pbf::parseScene(pbf::fuzz::kOverrideBaseScene, "base.json",
+                                 {pbf::parseOverride(path + "=1")}),
                  pbf::SceneError);
 }
 

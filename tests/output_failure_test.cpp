@@ -15,7 +15,9 @@ namespace {
 namespace fs = std::filesystem;
 using pbf::test::freshTestDirectory;
 
-pbf::Scene smallScene() { return pbf::parseScene(pbf::test::smallSceneJson(), "small.json"); }
+pbf::Scene smallScene() {
+    return pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
+}
 
 std::string runError(const pbf::RunOptions& options) {
     try {

@@ -1,5 +1,7 @@
 // The state guard: a NaN, an infinity or an impossible speed stops the run at
 // the step that produced it, names the particle, and no bad frame is written.
+#include "pbf/state_guard.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 #include "pbf/checkpoint.hpp"
 #include "pbf/run.hpp"
 #include "pbf/simulation.hpp"
-#include "pbf/state_guard.hpp"
 #include "reliability_util.hpp"
 
 namespace {
@@ -63,7 +64,8 @@ TEST(StateGuard, SpeedLimitStopsAfterTheStepThatExceedsIt) {
         EXPECT_GT(e.substep, 0);
         EXPECT_EQ(e.stage, "after solver step");
         EXPECT_GT(pbf::length(e.particle.velocity), 0.3f);
-        EXPECT_NE(std::string(e.what()).find("exceeds the limit of 0.3 m/s"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("exceeds the limit of 0.3 m/s"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -99,8 +101,9 @@ TEST(StateGuard, RunStopsSavesLastGoodStateAndWritesNoBadFrame) {
         EXPECT_TRUE(fs::exists(dir / pbf::frameFileName(lastGood)));
         EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(e.frame)));
         EXPECT_EQ(pbf::readCheckpoint(dir / pbf::kCheckpointFileName).frame, lastGood);
-        EXPECT_NE(std::string(e.what()).find("frames up to " + std::to_string(lastGood) + " are good"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("frames up to " + std::to_string(lastGood) + " are good"),
+            std::string::npos)
             << e.what();
     }
     fs::remove_all(dir);

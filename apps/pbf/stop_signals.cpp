@@ -8,7 +8,9 @@ namespace {
 // Only async-signal-safe work in the handler: store to a sig_atomic_t.
 volatile std::sig_atomic_t gStopSignal = 0;
 
-extern "C" void onStopSignal(int signal) { gStopSignal = signal; }
+extern "C" void onStopSignal(int signal) {
+    gStopSignal = signal;
+}
 
 }  // namespace
 
@@ -23,6 +25,8 @@ void installStopHandlers() {
     sigaction(SIGTERM, &action, nullptr);
 }
 
-int stopSignal() { return gStopSignal; }
+int stopSignal() {
+    return gStopSignal;
+}
 
 }  // namespace pbf::cli

@@ -42,10 +42,10 @@ struct RunTotals {
     long long substeps = 0;
     double solverMilliseconds = 0.0;
     double wallSeconds = 0.0;
-    double densityErrorSum = 0.0;   // sum over frames of the average density error
+    double densityErrorSum = 0.0;  // sum over frames of the average density error
     double maxDensityError = 0.0;
     std::uint64_t maxEscaped = 0;
-    std::string statsCsv;           // stats.csv so far, header included
+    std::string statsCsv;  // stats.csv so far, header included
 };
 
 struct Checkpoint {
@@ -62,7 +62,8 @@ Checkpoint captureCheckpoint(const Simulation& simulation);
 // Puts a checkpoint's state into `simulation`. Throws IoError when the
 // checkpoint was written for another scene or by another pbf version;
 // `name` (the file) is used in the messages.
-void restoreCheckpoint(const Checkpoint& checkpoint, Simulation& simulation, const std::string& name);
+void restoreCheckpoint(const Checkpoint& checkpoint, Simulation& simulation,
+                       const std::string& name);
 
 // Writes atomically (pbf::writeFileAtomically). Throws IoError.
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint);

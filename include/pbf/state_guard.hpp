@@ -23,11 +23,11 @@ namespace pbf {
 struct Scene;
 
 struct BadParticle {
-    std::size_t index = 0;   // memory index (changes every step)
-    std::uint32_t id = 0;    // stable id, as in the PLY files
+    std::size_t index = 0;  // memory index (changes every step)
+    std::uint32_t id = 0;   // stable id, as in the PLY files
     Vec3 position;
     Vec3 velocity;
-    std::string problem;     // "velocity is NaN", "speed 812 m/s exceeds the limit of 97 m/s", ...
+    std::string problem;  // "velocity is NaN", "speed 812 m/s exceeds the limit of 97 m/s", ...
 };
 
 // The first particle (lowest memory index) whose position or velocity is not
@@ -45,18 +45,18 @@ double speedLimit(const Scene& scene);
 
 // Thrown by Simulation::advanceFrame when the state guard fires.
 class StateError : public std::runtime_error {
-public:
-    StateError(const std::string& message, int frameNumber, int substepNumber, std::string stageName,
-               BadParticle badParticle)
+  public:
+    StateError(const std::string& message, int frameNumber, int substepNumber,
+               std::string stageName, BadParticle badParticle)
         : std::runtime_error(message),
           frame(frameNumber),
           substep(substepNumber),
           stage(std::move(stageName)),
           particle(std::move(badParticle)) {}
 
-    int frame;           // frame being computed (1-based, as in frame_NNNNN.ply)
-    int substep;         // substep within that frame (1-based; 0: before the first)
-    std::string stage;   // where the check ran, e.g. "after solver step"
+    int frame;          // frame being computed (1-based, as in frame_NNNNN.ply)
+    int substep;        // substep within that frame (1-based; 0: before the first)
+    std::string stage;  // where the check ran, e.g. "after solver step"
     BadParticle particle;
 };
 
