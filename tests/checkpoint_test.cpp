@@ -55,6 +55,7 @@ std::string expectIoError(const std::function<void()>& action) {
 // The crash is simulated by an exception thrown from the frame callback after
 // frame 5 was written; the last periodic checkpoint is the one of frame 3.
 TEST(Checkpoint, ResumedRunWritesBitIdenticalFrames) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path straight = freshTestDirectory("straight");
     pbf::runScene(scene, optionsFor(straight, kFrames));
@@ -89,6 +90,7 @@ TEST(Checkpoint, ResumedRunWritesBitIdenticalFrames) {
 // A run of k frames, then a resume to more frames in a fresh process state:
 // the checkpoint written at the end of a run is also a resume point.
 TEST(Checkpoint, ExtendingAFinishedRunMatchesALongerRun) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path straight = freshTestDirectory("long");
     pbf::runScene(scene, optionsFor(straight, 5));
@@ -103,6 +105,7 @@ TEST(Checkpoint, ExtendingAFinishedRunMatchesALongerRun) {
 }
 
 TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     pbf::Simulation original(scene);
     for (int f = 0; f < 3; ++f) original.advanceFrame();
@@ -133,6 +136,7 @@ TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
 }
 
 TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path dir = freshTestDirectory("damaged");
     pbf::Simulation simulation(scene);
@@ -166,6 +170,7 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
 }
 
 TEST(Checkpoint, ResumeWithAnotherSceneOrWithoutCheckpointIsRefused) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const fs::path dir = freshTestDirectory("othersc");
     pbf::runScene(smallDamBreak(), optionsFor(dir, 2));
     pbf::RunOptions resume = optionsFor(dir, 4);
@@ -187,6 +192,7 @@ TEST(Checkpoint, ResumeWithAnotherSceneOrWithoutCheckpointIsRefused) {
 }
 
 TEST(Checkpoint, FingerprintIgnoresFormattingAndOutputSettingsOnly) {
+    const pbf::test::ThreadCountScope oneThread(1);
     using pbf::test::smallSceneJson;
     const auto fingerprint = [](const std::string& json, std::vector<pbf::SceneOverride> o = {}) {
         return pbf::parseScene(json, "s.json", o).fingerprint;

@@ -20,6 +20,7 @@ using pbf::test::freshTestDirectory;
 using pbf::test::smallDamBreak;
 
 TEST(StateGuard, NanInjectedIntoAVelocityIsReportedWithTheParticleId) {
+    const pbf::test::ThreadCountScope oneThread(1);
     pbf::Simulation simulation(smallDamBreak());
     simulation.advanceFrame();
     pbf::ParticleStore& p = simulation.particles();
@@ -41,6 +42,7 @@ TEST(StateGuard, NanInjectedIntoAVelocityIsReportedWithTheParticleId) {
 }
 
 TEST(StateGuard, InfinitePositionIsReported) {
+    const pbf::test::ThreadCountScope oneThread(1);
     pbf::Simulation simulation(smallDamBreak());
     simulation.particles().position.x[5] = std::numeric_limits<float>::infinity();
     try {
@@ -55,6 +57,7 @@ TEST(StateGuard, InfinitePositionIsReported) {
 // A limit the falling water crosses during a frame: the check after a solver
 // step fires, at a substep > 0, for the first particle over the limit.
 TEST(StateGuard, SpeedLimitStopsAfterTheStepThatExceedsIt) {
+    const pbf::test::ThreadCountScope oneThread(1);
     pbf::Simulation simulation(smallDamBreak({pbf::parseOverride("output.max_speed=0.3")}));
     EXPECT_DOUBLE_EQ(simulation.speedLimit(), 0.3f);
     try {
@@ -70,6 +73,7 @@ TEST(StateGuard, SpeedLimitStopsAfterTheStepThatExceedsIt) {
 }
 
 TEST(StateGuard, AutomaticLimitAllowsFreeFallButNotBlowUps) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const double limit = pbf::speedLimit(scene);
     // Free fall across the whole domain diagonal (sqrt(1.6^2 + 1 + 0.4^2) m).
@@ -87,6 +91,7 @@ TEST(StateGuard, AutomaticLimitAllowsFreeFallButNotBlowUps) {
 // runScene: frames before the failure are written, none after; the last
 // good frame's state is saved as the checkpoint; the message says where.
 TEST(StateGuard, RunStopsSavesLastGoodStateAndWritesNoBadFrame) {
+    const pbf::test::ThreadCountScope oneThread(1);
     const fs::path dir = freshTestDirectory("guardrun");
     pbf::RunOptions options;
     options.outputDirectory = dir;
