@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (preset `fuzz`: clang, ASan + UBSan) and runs
-# each for a fixed time on a seed corpus: the shipped scenes, small PLY files,
-# override lists and a checkpoint (fuzz/corpus/). Crashes land in
+# each for a fixed time on a seed corpus: the shipped scenes (scenes/), and
+# small PLY files, override lists and a checkpoint (fuzz/corpus/). Crashes land in
 # build/fuzz/artifacts/; the last lines of each log give the executions run.
 # Usage: scripts/fuzz.sh [SECONDS_PER_HARNESS] [HARNESS...]   (default: 60 s, all)
 set -euo pipefail
@@ -24,11 +24,13 @@ for h in "${harnesses[@]}"; do
     mkdir -p "$corpus"
     dict=()
     if [ -f "fuzz/$h.dict" ]; then dict=(-dict="fuzz/$h.dict"); fi
+    seeds=("fuzz/corpus/$h")
+    if [ "$h" = scene ]; then seeds=(scenes); fi  # the shipped scenes are the seeds
     echo "fuzz.sh: fuzz_$h for $seconds s"
     # The first corpus directory collects new inputs; the seeds are read only.
     if ! build/fuzz/fuzz/fuzz_"$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
         -max_len=65536 -print_final_stats=1 -artifact_prefix="$out/artifacts/$h-" "${dict[@]}" \
-        "$corpus" "fuzz/corpus/$h" > "$out/$h.log" 2>&1; then
+        "$corpus" "${seeds[@]}" > "$out/$h.log" 2>&1; then
         echo "fuzz.sh: fuzz_$h FOUND A CRASH: see $out/$h.log and $out/artifacts/"
         status=1
     fi

@@ -41,7 +41,7 @@ TEST(FuzzRegression, SceneInputs) {
     replay(kRegressions / "scene", pbf::fuzz::scene, files);
     // The seeds are the shipped scenes: all of them load (and are too big
     // for the harness's 1 MiB memory cap, which refuses them cleanly).
-    replay(kSeeds / "scene", pbf::fuzz::scene, files);
+    replay(fs::path(PBF_SOURCE_DIR) / "scenes", pbf::fuzz::scene, files);
     EXPECT_GE(files, 4);
 }
 
