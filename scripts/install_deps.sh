@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages pbf builds with. Safe to run repeatedly.
 # Runs apt-get as root (directly, or through sudo when available).
+# Usage: scripts/install_deps.sh [--clang]
+#   --clang: also clang and LLVM's OpenMP runtime, for the fuzzers
+#            (scripts/fuzz.sh) and the ThreadSanitizer build (scripts/tsan.sh).
 set -euo pipefail
 
 packages=(
@@ -12,6 +15,7 @@ packages=(
   libglfw3-dev libepoxy-dev libimgui-dev libglm-dev libstb-dev
   libegl-dev libegl-mesa0 libgl1 libglx-mesa0 libgl1-mesa-dri ffmpeg xvfb xauth
 )
+if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

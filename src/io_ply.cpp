@@ -17,8 +17,8 @@ struct Record {  // one vertex as laid out in the file (32 bytes, no padding)
 };
 static_assert(sizeof(Record) == 32);
 
-[[noreturn]] void fail(const std::filesystem::path& path, const std::string& message) {
-    throw IoError(path.string() + ": " + message);
+[[noreturn]] void fail(const std::string& name, const std::string& message) {
+    throw IoError(name + ": " + message);
 }
 
 }  // namespace
@@ -48,7 +48,11 @@ void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p
 
 ParticleFrame readParticlesPly(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) fail(path, "cannot open PLY file");
+    if (!in) fail(path.string(), "cannot open PLY file");
+    return readParticlesPly(in, path.string());
+}
+
+ParticleFrame readParticlesPly(std::istream& in, const std::string& path) {
     std::string line;
     if (!std::getline(in, line) || line != "ply") fail(path, "not a PLY file (no 'ply' magic)");
 

@@ -19,6 +19,15 @@ std::string typeName(const nlohmann::json& v) {
     return v.type_name();
 }
 
+// A value as quoted in an error message. Overrides can put strings that are
+// not UTF-8 into the document and dump() throws on those by default (found by
+// fuzz/fuzz_override): replace bad bytes, and keep long values short.
+std::string show(const nlohmann::json& v) {
+    std::string text = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (text.size() > 200) text = text.substr(0, 200) + "...";
+    return text;
+}
+
 }  // namespace
 
 JsonReader::JsonReader(const nlohmann::json& object, std::string path, const std::string& file)
@@ -55,17 +64,17 @@ float JsonReader::number(const std::string& key, float fallback) {
 int JsonReader::integer(const std::string& key, int fallback) {
     const nlohmann::json* v = value(key);
     if (!v) return fallback;
-    if (!v->is_number_integer()) fail(key, "expected an integer, got " + v->dump());
+    if (!v->is_number_integer()) fail(key, "expected an integer, got " + show(*v));
     const auto i = v->get<long long>();
     if (i < std::numeric_limits<int>::min() || i > std::numeric_limits<int>::max())
-        fail(key, "integer out of range, got " + v->dump());
+        fail(key, "integer out of range, got " + show(*v));
     return static_cast<int>(i);
 }
 
 bool JsonReader::boolean(const std::string& key, bool fallback) {
     const nlohmann::json* v = value(key);
     if (!v) return fallback;
-    if (!v->is_boolean()) fail(key, "expected true or false, got " + v->dump());
+    if (!v->is_boolean()) fail(key, "expected true or false, got " + show(*v));
     return v->get<bool>();
 }
 
@@ -80,12 +89,13 @@ Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
     const nlohmann::json* v = value(key);
     if (!v) return fallback;
     if (!v->is_array() || v->size() != 3)
-        fail(key, "expected an array of 3 numbers [x, y, z], got " + v->dump());
+        fail(key, "expected an array of 3 numbers [x, y, z], got " + show(*v));
     float c[3];
     for (std::size_t k = 0; k < 3; ++k) {
         const nlohmann::json& e = (*v)[k];
-        if (!e.is_number() || !std::isfinite(e.get<double>()) || std::fabs(e.get<double>()) > 1e30)
-            fail(key, "expected an array of 3 finite numbers, got " + v->dump());
+        if (!e.is_number() || !std::isfinite(e.get<double>()) ||
+            std::fabs(e.get<double>()) > 1e30)
+            fail(key, "expected an array of 3 finite numbers, got " + show(*v));
         c[k] = static_cast<float>(e.get<double>());
     }
     return {c[0], c[1], c[2]};

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "hash.hpp"
 #include "json_reader.hpp"
 #include "pbf/emitter.hpp"
 
@@ -21,7 +22,45 @@ long long latticeCount(float extent, float spacing) {
     return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
 }
 
+// nlohmann::json parses iteratively but dumps recursively (error messages
+// quote values, the fingerprint dumps the document): a scene nested 10^6
+// levels deep overflowed the stack (found by fuzz/fuzz_scene). Scenes nest
+// 4 levels; more than kMaxNesting is refused while parsing.
+constexpr int kMaxNesting = 64;
+constexpr std::size_t kMaxOverrideDepth = 16;
+
+// True when `text` nests arrays or objects deeper than kMaxNesting (the
+// parser is iterative, so checking is safe; syntax errors are left to the
+// real parse).
+bool nestedTooDeep(std::string_view text) {
+    bool tooDeep = false;
+    const json::parser_callback_t limit = [&tooDeep](int depth, json::parse_event_t, json&) {
+        if (depth > kMaxNesting) tooDeep = true;
+        return !tooDeep;  // discard what is too deep instead of building it
+    };
+    [[maybe_unused]] const json parsed = json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    return tooDeep;
+}
+
+// "key: " for the last key before the number quoted in nlohmann's message
+// "number overflow parsing '1e999'", or "" when it cannot be found.
+std::string fieldOfNumber(std::string_view text, const std::string& message) {
+    const std::size_t open = message.find('\'');
+    const std::size_t close = message.rfind('\'');
+    if (open == std::string::npos || close <= open + 1) return {};
+    const std::size_t at = text.find(message.substr(open + 1, close - open - 1));
+    if (at == std::string_view::npos) return {};
+    const std::size_t colon = text.rfind(':', at);
+    const std::size_t end = colon == std::string_view::npos ? colon : text.rfind('"', colon);
+    const std::size_t begin = end == std::string_view::npos || end == 0 ? end : text.rfind('"', end - 1);
+    if (begin == std::string_view::npos || end == std::string_view::npos) return {};
+    return std::string(text.substr(begin + 1, end - begin - 1)) + ": ";
+}
+
 void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
+    if (std::count(o.path.begin(), o.path.end(), '.') >= static_cast<std::ptrdiff_t>(kMaxOverrideDepth))
+        throw SceneError(file + ": --set " + o.path.substr(0, 200) + ": more than " +
+                         std::to_string(kMaxOverrideDepth) + " levels of fields");
     json* node = &document;
     std::stringstream parts(o.path);
     std::string part;
@@ -47,6 +86,9 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
             node = &(*node)[part];
         }
     }
+    if (nestedTooDeep(o.value))
+        throw SceneError(file + ": --set " + o.path + ": value nested deeper than " + std::to_string(kMaxNesting) +
+                         " levels");
     // A value that is not JSON (a bare word) is taken as a string.
     try {
         *node = json::parse(o.value);
@@ -219,6 +261,21 @@ void readEmitters(JsonReader& root, Scene& scene) {
     }
 }
 
+// The fingerprint covers everything that shapes the simulated states. The
+// document is hashed as nlohmann::json dumps it (keys sorted, numbers
+// normalised), so formatting and key order do not matter, and fields added
+// to the format later are covered without changes here.
+std::uint64_t fingerprintOf(json document) {
+    document.erase("name");
+    if (auto out = document.find("output"); out != document.end() && out->is_object()) {
+        json kept = json::object();
+        if (out->contains("fps")) kept["fps"] = (*out)["fps"];
+        if (kept.empty()) document.erase(out);
+        else *out = kept;
+    }
+    return detail::fnv1a64(document.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
 std::string defaultName(const std::string& source) {
     const std::string stem = std::filesystem::path(source).stem().string();
     return stem.empty() ? "scene" : stem;
@@ -249,12 +306,22 @@ SceneOverride parseOverride(std::string_view assignment) {
 
 Scene parseScene(std::string_view jsonText, const std::string& sourceName,
                  const std::vector<SceneOverride>& overrides) {
-    json document;
-    try {
-        document =
-            json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-    } catch (const json::exception& e) {
-        throw SceneError(sourceName + ": not valid JSON: " + e.what());
+    if (nestedTooDeep(jsonText))
+        throw SceneError(sourceName + ": JSON nested deeper than " + std::to_string(kMaxNesting) +
+                         " levels (a scene needs 4)");
+    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    if (document.is_discarded()) {
+        // Parse again with exceptions for the position of the error.
+        try {
+            document = json::parse(jsonText, nullptr, true, true);
+        } catch (const json::out_of_range& e) {
+            // A number beyond double, e.g. 1e999: nlohmann throws out_of_range,
+            // not parse_error (an uncaught exception found by fuzz/fuzz_scene).
+            throw SceneError(sourceName + ": " + fieldOfNumber(jsonText, e.what()) +
+                             "number out of range (" + e.what() + ")");
+        } catch (const json::exception& e) {
+            throw SceneError(sourceName + ": not valid JSON: " + e.what());
+        }
     }
     for (const SceneOverride& o : overrides) applyOverride(document, o, sourceName);
 
@@ -298,12 +365,25 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         if (out.directory.empty()) o.fail("directory", "must not be empty");
         out.writeParticles = o.boolean("particles", out.writeParticles);
         out.writeVdbPoints = o.boolean("vdb_points", out.writeVdbPoints);
+        out.checkpointEvery = o.integer("checkpoint_every", out.checkpointEvery);
+        if (out.checkpointEvery < 0 || out.checkpointEvery > 1000000)
+            o.fail("checkpoint_every", "must be in [0, 1000000] frames (0: off)");
+        out.checkpointSeconds = o.number("checkpoint_seconds", out.checkpointSeconds);
+        if (!(out.checkpointSeconds >= 0.0f && out.checkpointSeconds <= 1e6f))
+            o.fail("checkpoint_seconds", "must be in [0, 1000000] seconds (0: off)");
+        out.maxSpeed = o.number("max_speed", out.maxSpeed);
+        if (!(out.maxSpeed >= 0.0f && out.maxSpeed <= 1e6f))
+            o.fail("max_speed", "must be in [0, 1000000] m/s (0: automatic)");
+        out.maxSpeedFactor = o.number("max_speed_factor", out.maxSpeedFactor);
+        if (!(out.maxSpeedFactor >= 1.0f && out.maxSpeedFactor <= 1e4f))
+            o.fail("max_speed_factor", "must be in [1, 10000]");
         o.finish();
     }
     readSolids(root, scene);
     readEmitters(root, scene);
     if (root.has("fluid_blocks") || scene.emitters.empty()) readFluidBlocks(root, scene);
     root.finish();
+    scene.fingerprint = fingerprintOf(std::move(document));
     return scene;
 }
 

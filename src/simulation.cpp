@@ -1,9 +1,14 @@
 #include "pbf/simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+
+#include "pbf/state_guard.hpp"
 
 namespace pbf {
 
@@ -11,7 +16,8 @@ Simulation::Simulation(const Scene& scene)
     : scene_(scene),
       solids_(buildSolids(scene)),
       particles_(createParticles(scene, solids_.get(), &skipped_)),
-      solver_(scene.simulation, solids_) {
+      solver_(scene.simulation, solids_),
+      speedLimit_(pbf::speedLimit(scene)) {
     for (const EmitterDescription& e : scene.emitters) emitters_.emplace_back(e, scene.simulation);
 }
 
@@ -23,6 +29,29 @@ void Simulation::setParams(const SimulationParams& params) {
         throw SceneError(e.what());
     }
     scene_.simulation = params;  // the adaptive substep reads cfl and limits from here
+}
+
+void Simulation::restore(ParticleStore particles, int frame, double time,
+                         const std::vector<EmitterState>& emitters) {
+    if (emitters.size() != emitters_.size())
+        throw std::invalid_argument("Simulation::restore: " + std::to_string(emitters.size()) +
+                                    " emitter states for " + std::to_string(emitters_.size()) + " emitters");
+    for (std::size_t k = 0; k < emitters.size(); ++k) emitters_[k].setState(emitters[k]);
+    particles_ = std::move(particles);
+    frame_ = frame;
+    time_ = time;
+}
+
+void Simulation::checkState(int substep, double time, const char* stage) const {
+    const std::optional<BadParticle> bad = findBadParticle(particles_, speedLimit_);
+    if (!bad) return;
+    const int frame = frame_ + 1;
+    std::string message = fmt::format(
+        "bad state in frame {} substep {} ({}, t = {:.6f} s): particle id {} at ({:.6g}, {:.6g}, "
+        "{:.6g}): {}",
+        frame, substep, stage, time, bad->id, bad->position.x, bad->position.y, bad->position.z,
+        bad->problem);
+    throw StateError(message, frame, substep, stage, *bad);
 }
 
 double Simulation::adaptiveSubstep(double remaining) const {
@@ -42,6 +71,11 @@ FrameReport Simulation::advanceFrame() {
     FrameReport report;
     double remaining = frameDt;
     int substeps = 0;
+    // The guard runs on the state handed in (a user or a resumed checkpoint
+    // may have put NaN there) and after every substep, so no bad state
+    // reaches the frame's outputs.
+    checkState(0, time_, "before the first solver step of the frame");
+    double elapsed = 0.0;
     while (remaining > 1e-12 * frameDt) {
         double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
                                                           : adaptiveSubstep(remaining);
@@ -56,7 +90,9 @@ FrameReport Simulation::advanceFrame() {
         report.stageMs.postProcess += t.postProcess;
         report.stageMs.total += t.total;
         remaining -= dt;
+        elapsed += dt;
         ++substeps;
+        checkState(substeps, frame_ * frameDt + elapsed, "after solver step");
     }
     ++frame_;
     time_ = frame_ * frameDt;  // no drift from summing substeps

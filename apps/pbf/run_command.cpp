@@ -8,10 +8,14 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "mesh_job.hpp"
+#include "pbf/checkpoint.hpp"
+#include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
+#include "pbf/state_guard.hpp"
 #include "pbf/surface/vdb_points.hpp"
 #include "pbf/threading.hpp"
+#include "stop_signals.hpp"
 
 namespace pbf::cli {
 namespace {
@@ -26,7 +30,19 @@ struct RunArguments {
     bool quiet = false;
     bool vdbPoints = false;
     bool mesh = false;
+    bool resume = false;
+    int checkpointEvery = -1;        // -1: the scene's output.checkpoint_every
+    double checkpointSeconds = -1.0; // -1: the scene's output.checkpoint_seconds
 };
+
+// The command that continues a run (printed when a run stops early).
+std::string resumeCommand(const RunArguments& args, const Scene& scene) {
+    std::string command = "pbf run " + args.scene;
+    for (const std::string& o : args.overrides) command += " --set '" + o + "'";
+    command += " --out " + scene.output.directory;
+    if (args.frames > 0) command += " --frames " + std::to_string(args.frames);
+    return command + " --resume";
+}
 
 int runScene(const RunArguments& args) {
     std::vector<SceneOverride> overrides;
@@ -38,6 +54,8 @@ int runScene(const RunArguments& args) {
     if (args.vdbPoints) scene.output.writeVdbPoints = true;
     if (args.mesh && !scene.output.writeParticles)
         throw SceneError("--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
+    if (args.checkpointEvery >= 0) scene.output.checkpointEvery = args.checkpointEvery;
+    if (args.checkpointSeconds >= 0.0) scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
     if (args.threads > 0) setThreadCount(args.threads);
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(scene, available);
@@ -73,8 +91,35 @@ int runScene(const RunArguments& args) {
                         fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
                                     r.substeps, r.stepMs, 100.0 * r.state.averageDensityError));
     };
-    const RunSummary s = pbf::runScene(scene, options);
+    options.resume = args.resume;
+    options.checkpointEvery = scene.output.checkpointEvery;
+    options.checkpointSeconds = scene.output.checkpointSeconds;
+    options.stopRequested = [] { return stopSignal() != 0; };
+    options.onNotice = [&](const std::string& message) {
+        if (!args.quiet) fmt::print(stderr, "pbf run: {}\n", message);
+    };
+    installStopHandlers();
+    RunSummary s;
+    try {
+        s = pbf::runScene(scene, options);
+    } catch (const StateError& e) {
+        progress.finish();
+        printError(e.what());
+        return 4;
+    } catch (const IoError& e) {
+        progress.finish();
+        printError(e.what());
+        return 1;
+    }
     progress.finish();
+    if (s.interrupted) {
+        const int signal = stopSignal();
+        fmt::print(stderr,
+                   "pbf run: stopped by signal {} after frame {}; checkpoint written to {}\n"
+                   "pbf run: continue with: {}\n",
+                   signal, s.lastFrame, s.checkpoint.string(), resumeCommand(args, scene));
+        return 128 + signal;
+    }
     fmt::print(
         "pbf run: {} frames, {} particles, {:.3f} s simulated in {:.1f} s wall, {} substeps, "
         "{:.2f} M particle-steps/s, avg density error {:.2f} %, max {:.2f} %, escaped {} -> {}\n",
@@ -125,6 +170,16 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--mesh", args->mesh,
                   "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` has the options)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
+    run->add_flag("-r,--resume", args->resume,
+                  "Continue from the checkpoint in the output directory (same scene and --set overrides); "
+                  "the frames are bit-identical to an uninterrupted run");
+    run->add_option("--checkpoint-every", args->checkpointEvery,
+                    "Write a checkpoint every N frames, 0: off (default: output.checkpoint_every, 10)")
+        ->check(CLI::Range(0, 1000000));
+    run->add_option("--checkpoint-seconds", args->checkpointSeconds,
+                    "Also write one after this many wall-clock seconds, 0: off "
+                    "(default: output.checkpoint_seconds, 60)")
+        ->check(CLI::Range(0.0, 1e6));
     return [args] { return runScene(*args); };
 }
 

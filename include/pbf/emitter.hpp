@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "pbf/particles.hpp"
@@ -13,6 +14,12 @@ namespace pbf {
 // Offsets of the particles of one emitted disc: a square lattice of spacing
 // 2 r in the plane across `direction`, within `radius` of the axis.
 std::vector<Vec3> emitterDisc(const EmitterDescription& emitter, float particleRadius);
+
+// What an emitter carries from one substep to the next (saved in checkpoints).
+struct EmitterState {
+    double travelled = 0.0;     // stream length not yet emitted, m
+    std::uint64_t emitted = 0;  // particles emitted so far
+};
 
 class Emitter {
 public:
@@ -28,6 +35,12 @@ public:
     std::size_t discSize() const { return disc_.size(); }
     // Particles per second while active: disc size * speed / spacing.
     double rate() const;
+
+    EmitterState state() const { return {travelled_, emitted_}; }
+    void setState(const EmitterState& state) {
+        travelled_ = state.travelled;
+        emitted_ = static_cast<std::size_t>(state.emitted);
+    }
 
 private:
     EmitterDescription description_;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <istream>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -41,5 +42,7 @@ void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p
 // Reads a file written by writeParticlesPly (or any binary little-endian
 // PLY with float x, y, z; other properties optional). Throws IoError.
 ParticleFrame readParticlesPly(const std::filesystem::path& path);
+// The same from a stream (must be seekable); `name` is used in error messages.
+ParticleFrame readParticlesPly(std::istream& in, const std::string& name);
 
 }  // namespace pbf

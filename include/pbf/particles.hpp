@@ -65,6 +65,9 @@ class ParticleStore {
     void reorder(std::span<const std::uint32_t> perm);
     // Indices of the particles sorted by id (for writing files in a stable order).
     std::vector<std::uint32_t> orderById() const;
+    // The id the next add() gives (saved and restored by checkpoints).
+    std::uint32_t nextId() const { return nextId_; }
+    void setNextId(std::uint32_t next) { nextId_ = next; }
 
   private:
     std::uint32_t nextId_ = 0;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -67,6 +68,16 @@ struct OutputParams {
     std::string directory;       // default "out/<scene name>"
     bool writeParticles = true;  // binary PLY per frame
     bool writeVdbPoints = false; // OpenVDB points per frame (frame_NNNNN.vdb, pbf_surface)
+    // Checkpoints for --resume (docs/reliability.md): one is written when
+    // `checkpointEvery` frames or `checkpointSeconds` of wall time have passed
+    // since the last one (0 turns that trigger off), and at the end of a run.
+    int checkpointEvery = 10;          // frames, [0, 1e6]
+    float checkpointSeconds = 60.0f;   // wall-clock seconds, [0, 1e6]
+    // State guard (include/pbf/state_guard.hpp): the run stops when a particle
+    // is faster than max_speed (m/s) or, when max_speed is 0, than
+    // max_speed_factor times the free-fall speed over the domain diagonal.
+    float maxSpeed = 0.0f;             // m/s, [0, 1e6]; 0: automatic
+    float maxSpeedFactor = 10.0f;      // [1, 1e4]
 };
 
 struct Scene {
@@ -77,6 +88,11 @@ struct Scene {
     std::vector<SolidDescription> solids;
     std::vector<EmitterDescription> emitters;
     OutputParams output;
+    // Hash of the scene document after overrides, without the output fields
+    // that do not change the simulated states (frames, directory, particles,
+    // checkpoint and speed-limit settings): a checkpoint records it so that a
+    // run is only resumed with the scene it was started with.
+    std::uint64_t fingerprint = 0;
 };
 
 // A command-line override "path=value": path is dot-separated

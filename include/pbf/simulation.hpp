@@ -50,6 +50,9 @@ class Simulation {
     void setParams(const SimulationParams& params);
 
     // Simulates one output frame (1 / fps seconds) and reports on it.
+    // Throws StateError (include/pbf/state_guard.hpp) when the state is bad
+    // before the frame or after any of its substeps; the particles are then
+    // left as the failing step made them.
     FrameReport advanceFrame();
     // Statistics of the current state (frame 0 before any step).
     FrameReport report() const;
@@ -60,7 +63,21 @@ class Simulation {
     // out so that the frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
 
-  private:
+    // Speed above which the state guard stops the run (m/s; <= 0: no speed
+    // check). Defaults to speedLimit(scene).
+    double speedLimit() const { return speedLimit_; }
+    void setSpeedLimit(double metresPerSecond) { speedLimit_ = metresPerSecond; }
+
+    // Replaces the state by a saved one: the particles in their memory order
+    // (the solver's stable sort depends on it, so resuming needs the exact
+    // order for bit-identical results), the frame counter and the time.
+    // `emitters` holds one state per emitter of the scene, in scene order.
+    void restore(ParticleStore particles, int frame, double time,
+                 const std::vector<EmitterState>& emitters = {});
+
+private:
+    void checkState(int substep, double time, const char* stage) const;
+
     Scene scene_;
     std::shared_ptr<const SolidSet> solids_;
     std::size_t skipped_ = 0;
@@ -69,6 +86,7 @@ class Simulation {
     std::vector<Emitter> emitters_;
     int frame_ = 0;
     double time_ = 0.0;
+    double speedLimit_ = 0.0;
 };
 
 }  // namespace pbf
