@@ -218,7 +218,7 @@ struct SceneRenderer::Impl {
                            glm::value_ptr(viewProj));
         glUniform3fv(solidProgram.uniform("uEye"), 1, glm::value_ptr(v.eye));
         glUniform3fv(solidProgram.uniform("uLightWorld"), 1, glm::value_ptr(v.lightWorld));
-        glUniform3f(solidProgram.uniform("uColor"), 0.62f, 0.60f, 0.56f);  // stone grey
+        glUniform3f(solidProgram.uniform("uColor"), 0.50f, 0.49f, 0.47f);  // stone grey
         glBindVertexArray(solidVao);
         glDrawArrays(GL_TRIANGLES, 0, GLsizei(solidVertices));
     }
