@@ -14,6 +14,8 @@
 #include "pbf/render/headless.hpp"
 #include "pbf/render/overlay.hpp"
 #include "pbf/render/renderer.hpp"
+#include "pbf/render/solid_mesh.hpp"
+#include "pbf/triangle_mesh.hpp"
 #include "test_util.hpp"
 
 namespace pbf::render {
@@ -67,10 +69,12 @@ class HeadlessRenderTest : public ::testing::Test {
         camera_ = frameBox(scene_.simulation.domain, float(kWidth) / kHeight);
     }
 
-    Image render(const RenderParticles& particles, const RenderSettings& settings) {
+    Image render(const RenderParticles& particles, const RenderSettings& settings,
+                 const SolidMesh* solids = nullptr) {
         SceneRenderer renderer;
         renderer.setDomain(scene_.simulation.domain);
         renderer.setParticleRadius(scene_.simulation.particleRadius);
+        if (solids) renderer.setSolids(*solids);
         renderer.upload(particles);
         OffscreenTarget target(kWidth, kHeight);
         renderer.render(target.framebuffer(), kWidth, kHeight, camera_, settings);
@@ -193,6 +197,236 @@ TEST_F(HeadlessRenderTest, ColorBarOverlayDrawsInTheTopLeftCornerOnly) {
     const Image flatPlain =
         render(packParticles(createParticles(scene_), ColorMode::Flat), settings);
     EXPECT_TRUE(flat.rgba == flatPlain.rgba);
+}
+
+// A box solid in the cube drop's domain, away from the water block.
+constexpr Aabb kSolidBox{{0.10f, 0.05f, 0.60f}, {0.30f, 0.35f, 0.85f}};
+
+SolidMesh boxSolidMesh(const Aabb& box) {
+    SolidDescription solid;
+    solid.kind = SolidDescription::Kind::Box;
+    solid.box = box;
+    SolidMesh mesh;
+    appendSolid(mesh, solid, Aabb{{0, 0, 0}, {1, 1, 1}});
+    return mesh;
+}
+
+bool inside(const Rect& r, int x, int y) {
+    return x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+}
+
+// Without water, a box solid covers its screen rectangle in stone grey and
+// leaves the rest of the image exactly as it was, in both looks.
+TEST_F(HeadlessRenderTest, SolidBoxIsDrawnWhereItStandsOnly) {
+    const SolidMesh solid = boxSolidMesh(kSolidBox);
+    const Rect innerRect = projectBox(camera_, kSolidBox, 0.4f, 0);
+    const Rect outerRect = projectBox(camera_, kSolidBox, 1.0f, 2);
+    ASSERT_GT(innerRect.x1 - innerRect.x0, 4);
+    ASSERT_GT(innerRect.y1 - innerRect.y0, 4);
+    for (const Style style : {Style::Spheres, Style::Liquid}) {
+        SCOPED_TRACE(toString(style));
+        RenderSettings settings;
+        settings.style = style;
+        const Image empty = render(RenderParticles{}, settings);
+        const Image withSolid = render(RenderParticles{}, settings, &solid);
+        int insideTotal = 0, insideGrey = 0, outsideChanged = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                if (inside(innerRect, x, y)) {
+                    ++insideTotal;
+                    const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 4;
+                    const int r = withSolid.rgba[i], g = withSolid.rgba[i + 1],
+                              b = withSolid.rgba[i + 2];
+                    // Grey: channels within a few levels of each other (the sky is blue,
+                    // the floor lighter), and different from the empty image.
+                    const bool grey = std::abs(r - g) < 16 && std::abs(g - b) < 16 &&
+                                      std::abs(r - b) < 16 && r > 40 && r < 200;
+                    insideGrey += grey && difference(withSolid, empty, x, y) > 30 ? 1 : 0;
+                } else if (!inside(outerRect, x, y)) {
+                    outsideChanged += difference(withSolid, empty, x, y) > 0 ? 1 : 0;
+                }
+            }
+        EXPECT_EQ(insideGrey, insideTotal) << "the solid does not cover its rectangle";
+        EXPECT_EQ(outsideChanged, 0) << "pixels changed away from the solid";
+    }
+}
+
+// A solid in front of the water hides it: where both project, the image with
+// water is exactly the image without, and the solid is not see-through.
+TEST_F(HeadlessRenderTest, SolidInFrontHidesTheWater) {
+    // A cube of 0.13 m on the line from the block's centre to the camera.
+    const Vec3 blockCentre = (block_.min + block_.max) * 0.5f;
+    const Vec3 toCamera = camera_.position - blockCentre;
+    const Vec3 centre = blockCentre + toCamera * (0.4f / length(toCamera));
+    const Vec3 half{0.065f, 0.065f, 0.065f};
+    const Aabb solidBox{centre - half, centre + half};
+    const SolidMesh solid = boxSolidMesh(solidBox);
+    const Rect s = projectBox(camera_, solidBox, 0.4f, 0);
+    const Rect w = projectBox(camera_, block_, 0.4f, 0);
+    const Rect both{std::max(s.x0, w.x0), std::max(s.y0, w.y0), std::min(s.x1, w.x1),
+                    std::min(s.y1, w.y1)};
+    ASSERT_GT(both.x1 - both.x0, 4) << "the solid must stand in front of the block";
+    ASSERT_GT(both.y1 - both.y0, 4) << "the solid must stand in front of the block";
+    const ParticleStore particles = createParticles(scene_);
+    for (const Style style : {Style::Spheres, Style::Liquid}) {
+        SCOPED_TRACE(toString(style));
+        RenderSettings settings;
+        settings.style = style;
+        settings.color = ColorMode::Flat;
+        const RenderParticles water = packParticles(particles, ColorMode::Flat);
+        const Image solidOnly = render(RenderParticles{}, settings, &solid);
+        const Image waterOnly = render(water, settings);
+        const Image solidAndWater = render(water, settings, &solid);
+        int total = 0, hidden = 0, covered = 0, waterElsewhere = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                if (inside(both, x, y)) {
+                    ++total;
+                    hidden += difference(solidAndWater, solidOnly, x, y) == 0 ? 1 : 0;
+                    covered += difference(solidAndWater, waterOnly, x, y) > 30 ? 1 : 0;
+                } else if (inside(projectBox(camera_, block_, 1.0f, 0), x, y) &&
+                           !inside(projectBox(camera_, solidBox, 1.0f, 2), x, y)) {
+                    // Water not behind the solid is still drawn.
+                    waterElsewhere += difference(solidAndWater, solidOnly, x, y) > 30 ? 1 : 0;
+                }
+            }
+        EXPECT_EQ(hidden, total) << "water shows through the solid";
+        EXPECT_EQ(covered, total) << "the solid does not cover the water";
+        EXPECT_GT(waterElsewhere, 50);
+    }
+}
+
+TEST(SolidMesh, AnalyticShapesAreTessellatedOnTheirSurfaces) {
+    const Aabb domain{{0, 0, 0}, {1, 1, 1}};
+    SolidDescription box;
+    box.kind = SolidDescription::Kind::Box;
+    box.box = {{0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f}};
+    SolidMesh mesh;
+    appendSolid(mesh, box, domain);
+    ASSERT_EQ(mesh.triangleCount(), 12u);
+    for (std::size_t v = 0; v < 36; ++v) {
+        const Vec3 p = mesh.position(v);
+        for (int k = 0; k < 3; ++k) EXPECT_TRUE(p[k] == box.box.min[k] || p[k] == box.box.max[k]);
+    }
+
+    SolidDescription sphere;
+    sphere.kind = SolidDescription::Kind::Sphere;
+    sphere.center = {0.5f, 0.4f, 0.3f};
+    sphere.radius = 0.2f;
+    mesh = {};
+    appendSolid(mesh, sphere, domain);
+    EXPECT_GT(mesh.triangleCount(), 500u);
+    for (std::size_t v = 0; v < 3 * mesh.triangleCount(); ++v)
+        EXPECT_NEAR(length(mesh.position(v) - sphere.center), sphere.radius, 1e-5f);
+
+    SolidDescription cylinder;
+    cylinder.kind = SolidDescription::Kind::Cylinder;
+    cylinder.base = {0.5f, 0.1f, 0.5f};
+    cylinder.axis = {0.0f, 2.0f, 0.0f};  // normalised inside, as the solver does
+    cylinder.radius = 0.1f;
+    cylinder.height = 0.3f;
+    mesh = {};
+    appendSolid(mesh, cylinder, domain);
+    int onBase = 0, onTop = 0;
+    for (std::size_t v = 0; v < 3 * mesh.triangleCount(); ++v) {
+        const Vec3 p = mesh.position(v);
+        const float radial = std::hypot(p.x - 0.5f, p.z - 0.5f);
+        EXPECT_LE(radial, 0.1f + 1e-5f);
+        EXPECT_TRUE(std::abs(p.y - 0.1f) < 1e-5f || std::abs(p.y - 0.4f) < 1e-5f);
+        if (radial < 1e-6f) (p.y < 0.2f ? onBase : onTop) += 1;
+    }
+    EXPECT_GT(onBase, 0);  // both caps are closed
+    EXPECT_GT(onTop, 0);
+
+    // A tilted plane is cut to the domain: every corner on the plane and in the box.
+    SolidDescription plane;
+    plane.kind = SolidDescription::Kind::Plane;
+    plane.point = {0.5f, 0.3f, 0.5f};
+    plane.normal = {0.2f, 1.0f, 0.1f};
+    mesh = {};
+    appendSolid(mesh, plane, domain);
+    ASSERT_GE(mesh.triangleCount(), 3u);
+    float area = 0.0f;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Vec3 a = mesh.position(3 * t), b = mesh.position(3 * t + 1),
+                   c = mesh.position(3 * t + 2);
+        area += 0.5f * length(cross(b - a, c - a));
+        for (const Vec3& p : {a, b, c}) {
+            EXPECT_NEAR(dot(p - plane.point, plane.normal), 0.0f, 1e-5f);
+            EXPECT_TRUE(
+                Aabb({{-1e-5f, -1e-5f, -1e-5f}, {1.00001f, 1.00001f, 1.00001f}}).contains(p));
+        }
+    }
+    // The cut's area is the domain's cross-section: 1 / |n_y| for this normal.
+    EXPECT_NEAR(area, length(plane.normal) / plane.normal.y, 1e-3f);
+    // A plane outside the domain draws nothing.
+    plane.point = {0.5f, 2.0f, 0.5f};
+    plane.normal = {0.0f, 1.0f, 0.0f};
+    mesh = {};
+    appendSolid(mesh, plane, domain);
+    EXPECT_EQ(mesh.triangleCount(), 0u);
+}
+
+// The drawn mesh lies on the surface of the solver's solid: same file, same transform.
+TEST(SolidMesh, ObjMeshLiesOnTheSolversSurface) {
+    const std::string cube = std::string(PBF_SCENES_DIR) + "/../tests/data/cube.obj";
+    const Scene scene = parseScene(
+        test::smallSceneJson(
+            R"("solids": [{"type": "mesh", "file": ")" + cube +
+            R"(", "scale": 0.1, "rotation": [0, 30, 10], "translation": [0.2, 0.25, 0.2]}])"),
+        "inline.json");
+    const SolidMesh mesh = tessellateSolids(scene);
+    EXPECT_EQ(mesh.triangleCount(), 12u);
+    const auto solids = buildSolids(scene);
+    ASSERT_EQ(solids->size(), 1u);
+    for (std::size_t v = 0; v < 3 * mesh.triangleCount(); ++v) {
+        Vec3 normal;
+        // The level set's voxels are a fraction of the particle radius (0.02 m).
+        EXPECT_NEAR((*solids)[0].signedDistance(mesh.position(v), normal), 0.0f, 0.01f);
+    }
+    // A missing file names the scene and the field.
+    const Scene missing = parseScene(
+        test::smallSceneJson(R"("solids": [{"type": "mesh", "file": "/nonexistent/x.obj"}])"),
+        "inline.json");
+    try {
+        (void)tessellateSolids(missing);
+        ADD_FAILURE() << "no error for a missing mesh file";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("solids[0].file"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("x.obj"), std::string::npos) << e.what();
+    }
+}
+
+// pbf::loadTriangleMesh (libpbf; tested here, next to its user, the renderer).
+TEST(TriangleMesh, LoadsAndPlacesObjFilesAndNamesBadOnes) {
+    const std::string data = std::string(PBF_SCENES_DIR) + "/../tests/data/";
+    Transform transform;
+    transform.scale = {0.5f, 0.5f, 0.5f};
+    transform.rotationDegrees = {0.0f, 90.0f, 0.0f};
+    transform.translation = {1.0f, 2.0f, 3.0f};
+    const TriangleMesh mesh = loadTriangleMesh(data + "cube.obj", transform);
+    ASSERT_EQ(mesh.vertices.size(), 8u);
+    EXPECT_EQ(mesh.triangles.size(), 12u);
+    // Vertex 7 of the file is (1, 1, 1): scaled to 0.5, turned 90 degrees about y
+    // (x -> -z, z -> x), moved.
+    EXPECT_NEAR(mesh.vertices[6].x, 1.5f, 1e-5f);
+    EXPECT_NEAR(mesh.vertices[6].y, 2.5f, 1e-5f);
+    EXPECT_NEAR(mesh.vertices[6].z, 2.5f, 1e-5f);
+    const auto expectError = [&](const std::string& file, const std::string& text) {
+        try {
+            (void)loadTriangleMesh(data + file, Transform{});
+            ADD_FAILURE() << file << ": no error";
+        } catch (const SolidError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(file), std::string::npos) << what;
+            EXPECT_NE(what.find(text), std::string::npos) << what;
+        }
+    };
+    expectError("empty.obj", "no triangles");
+    expectError("nan_vertex.obj", "not finite");
+    expectError("bad_index.obj", "missing vertex");
+    expectError("cube.stl", "no such file");
+    expectError("missing_mesh.json", "unsupported mesh format");
 }
 
 TEST(Camera, ValidationNamesTheField) {

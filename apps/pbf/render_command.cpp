@@ -20,6 +20,7 @@
 #include "pbf/render/headless.hpp"
 #include "pbf/render/overlay.hpp"
 #include "pbf/render/renderer.hpp"
+#include "pbf/render/solid_mesh.hpp"
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
@@ -168,6 +169,7 @@ int runRender(const RenderArguments& args) {
     render::SceneRenderer renderer;
     renderer.setDomain(domain);
     renderer.setParticleRadius(radius);
+    if (scene) renderer.setSolids(render::tessellateSolids(*scene));  // also for PLY frames
     render::OffscreenTarget target(args.width, args.height);
     std::unique_ptr<render::ColorBarOverlay> colorBar;
     if (!args.noColorBar) colorBar = std::make_unique<render::ColorBarOverlay>();
@@ -241,7 +243,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
         "Render PNG frames and an MP4 video without a display (EGL), from a scene or PLY frames");
     cmd->add_option("scene", args->scene,
                     "Scene to simulate and render (JSON, see docs/scenes.md); with --ply "
-                    "only its domain, particle radius and colour range are used");
+                    "only its domain, particle radius, solids and colour range are used");
     cmd->add_option("--ply", args->plyDirectory,
                     "Render the frame_NNNNN.ply files of this directory instead");
     cmd->add_option("-o,--out", args->out, "Output directory (default: out/<name>_<style>)");

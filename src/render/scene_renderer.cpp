@@ -11,6 +11,7 @@
 
 #include "gl_util.hpp"
 #include "pbf/render/renderer.hpp"
+#include "pbf/render/solid_mesh.hpp"
 #include "shaders.hpp"
 
 namespace pbf::render {
@@ -33,6 +34,8 @@ struct View {
     glm::mat3 viewToWorld;
     glm::vec2 tanHalf;
     glm::vec3 lightView;
+    glm::vec3 lightWorld;
+    glm::vec3 eye;
     float pixelsPerMetre;  // at 1 m depth
 };
 
@@ -49,8 +52,9 @@ View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
     v.proj = glm::perspective(fov, aspect, nearPlane, farPlane);
     v.viewToWorld = glm::transpose(glm::mat3(v.view));
     v.tanHalf = {std::tan(0.5f * fov) * aspect, std::tan(0.5f * fov)};
-    v.lightView =
-        glm::normalize(glm::mat3(v.view) * glm::normalize(glm::vec3(0.35f, 0.85f, 0.45f)));
+    v.lightWorld = glm::normalize(glm::vec3(0.35f, 0.85f, 0.45f));
+    v.lightView = glm::normalize(glm::mat3(v.view) * v.lightWorld);
+    v.eye = toGlm(camera.position);
     v.pixelsPerMetre = 0.5f * float(height) / v.tanHalf.y;
     return v;
 }
@@ -72,6 +76,7 @@ struct SceneRenderer::Impl {
                            fragment({shaders::kSky, shaders::kSkyMain})};
     gl::Program floorProgram{"floor", shaders::kFloorVertex, shaders::kFloorFragment};
     gl::Program lineProgram{"lines", shaders::kFloorVertex, shaders::kLineFragment};
+    gl::Program solidProgram{"solids", shaders::kSolidVertex, shaders::kSolidFragment};
     gl::Program smoothing{"depth smoothing", shaders::kFullscreenVertex,
                           fragment({shaders::kSmoothingMain})};
     gl::Program composite{"liquid composite", shaders::kFullscreenVertex,
@@ -81,6 +86,8 @@ struct SceneRenderer::Impl {
     GLuint emptyVao = 0;
     GLuint boxVao = 0, boxVbo = 0;
     GLuint floorVao = 0, floorVbo = 0;
+    GLuint solidVao = 0, solidVbo = 0;
+    std::size_t solidVertices = 0;
     std::size_t count = 0;
     float radius = 0.01f;
     Aabb domain{{0, 0, 0}, {1, 1, 1}};
@@ -109,6 +116,16 @@ struct SceneRenderer::Impl {
             glEnableVertexAttribArray(0);
             glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
         }
+        // Solids: position and normal per vertex.
+        glGenVertexArrays(1, &solidVao);
+        glGenBuffers(1, &solidVbo);
+        glBindVertexArray(solidVao);
+        glBindBuffer(GL_ARRAY_BUFFER, solidVbo);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float),
+                              reinterpret_cast<const void*>(3 * sizeof(float)));
         glBindVertexArray(0);
         setDomain(domain);
     }
@@ -117,6 +134,8 @@ struct SceneRenderer::Impl {
         glDeleteBuffers(1, &particleVbo);
         glDeleteBuffers(1, &boxVbo);
         glDeleteBuffers(1, &floorVbo);
+        glDeleteBuffers(1, &solidVbo);
+        glDeleteVertexArrays(1, &solidVao);
         glDeleteVertexArrays(1, &particleVao);
         glDeleteVertexArrays(1, &emptyVao);
         glDeleteVertexArrays(1, &boxVao);
@@ -161,7 +180,9 @@ struct SceneRenderer::Impl {
         backgroundFbo.attach(backgroundColor.id(), backgroundDepth.id());
         depthFboA.attach(depthA.id(), splatDepth.id());
         depthFboB.attach(depthB.id(), 0);
-        thicknessFbo.attach(thickness.id(), 0);
+        // The thickness pass is depth-tested (not written) against the
+        // background's depth, so water hidden behind a solid adds nothing.
+        thicknessFbo.attach(thickness.id(), backgroundDepth.id());
     }
 
     void drawBackground(const View& v) {
@@ -186,6 +207,20 @@ struct SceneRenderer::Impl {
         glUniform1f(floorProgram.uniform("uFade"), 3.0f * size);
         glBindVertexArray(floorVao);
         glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+        drawSolids(v);
+    }
+
+    void drawSolids(const View& v) {
+        if (solidVertices == 0) return;
+        const glm::mat4 viewProj = v.proj * v.view;
+        solidProgram.use();
+        glUniformMatrix4fv(solidProgram.uniform("uViewProj"), 1, GL_FALSE,
+                           glm::value_ptr(viewProj));
+        glUniform3fv(solidProgram.uniform("uEye"), 1, glm::value_ptr(v.eye));
+        glUniform3fv(solidProgram.uniform("uLightWorld"), 1, glm::value_ptr(v.lightWorld));
+        glUniform3f(solidProgram.uniform("uColor"), 0.50f, 0.49f, 0.47f);  // stone grey
+        glBindVertexArray(solidVao);
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(solidVertices));
     }
 
     void drawBox(const View& v) {
@@ -224,29 +259,47 @@ struct SceneRenderer::Impl {
     }
 
     void renderLiquid(GLuint target, const View& v, const RenderSettings& s) {
-        // Background (sky, floor, box) into a texture: what the water refracts.
+        // Background (sky, floor, solids; the box comes later) into a
+        // texture: what the water refracts.
         glBindFramebuffer(GL_FRAMEBUFFER, backgroundFbo.id());
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         drawBackground(v);
-        if (s.drawBox) drawBox(v);
 
-        // 1. Depth splats: nearest sphere surface per pixel.
+        // 1. Depth splats: nearest sphere surface per pixel. The depth buffer
+        // starts as the background's, so water behind a solid is not drawn.
         glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
         glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, backgroundFbo.id());
+        glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_DEPTH_BUFFER_BIT,
+                          GL_NEAREST);
+        glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
         glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
         // Spheres larger than the particles (as in FleX's renderer) close the
         // gaps of a disordered surface before smoothing.
         drawParticles(sphereDepth, v, 1.5f, kLiquidRadiusScale);
 
-        // 2. Thickness: all spheres added, no depth test.
+        // 2. Thickness: all spheres in front of the background added up
+        // (depth test against the background, no depth writes).
         glBindFramebuffer(GL_FRAMEBUFFER, thicknessFbo.id());
         glClear(GL_COLOR_BUFFER_BIT);
-        glDisable(GL_DEPTH_TEST);
+        glDepthMask(GL_FALSE);
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
         drawParticles(sphereThickness, v, 4.5f);  // the Gaussian's 3 sigma
         glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_DEPTH_TEST);
+
+        // The box goes into the background after the water's depth tests
+        // (its lines must not cut the water's depth).
+        if (s.drawBox) {
+            glBindFramebuffer(GL_FRAMEBUFFER, backgroundFbo.id());
+            glEnable(GL_DEPTH_TEST);
+            drawBox(v);
+            glDisable(GL_DEPTH_TEST);
+        }
 
         // 3. Depth smoothing; each iteration is two passes, A -> B (horizontal) -> A (vertical).
         smoothing.use();
@@ -300,6 +353,14 @@ void SceneRenderer::setDomain(const Aabb& domain) {
 void SceneRenderer::setParticleRadius(float radius) {
     impl_->radius = radius;
 }
+void SceneRenderer::setSolids(const SolidMesh& mesh) {
+    glBindBuffer(GL_ARRAY_BUFFER, impl_->solidVbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.data.size() * sizeof(float)), mesh.data.data(),
+                 GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    impl_->solidVertices = mesh.data.size() / 6;
+}
+
 std::size_t SceneRenderer::particleCount() const {
     return impl_->count;
 }

@@ -178,6 +178,39 @@ void main() {
 }
 )";
 
+// The scene's static solids: lit triangles (Lambert diffuse + ambient) in a
+// neutral stone grey. The normal is turned towards the camera first, so a
+// mesh with inconsistent winding is lit like a closed one.
+inline constexpr const char* kSolidVertex = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+uniform mat4 uViewProj;
+out vec3 vWorld;
+out vec3 vNormal;
+void main() {
+    vWorld = aPosition;
+    vNormal = aNormal;
+    gl_Position = uViewProj * vec4(aPosition, 1.0);
+}
+)";
+
+inline constexpr const char* kSolidFragment = R"(#version 330 core
+in vec3 vWorld;
+in vec3 vNormal;
+uniform vec3 uEye;         // camera position, world space
+uniform vec3 uLightWorld;  // unit vector towards the light
+uniform vec3 uColor;
+out vec4 outColor;
+void main() {
+    vec3 n = normalize(vNormal);
+    if (dot(n, uEye - vWorld) < 0.0) n = -n;
+    float diffuse = max(dot(n, uLightWorld), 0.0);
+    // Ambient brighter from above (sky) than from below (floor).
+    float ambient = 0.30 + 0.10 * n.y;
+    outColor = vec4(uColor * (ambient + 0.60 * diffuse), 1.0);
+}
+)";
+
 inline constexpr const char* kLineFragment = R"(#version 330 core
 uniform vec3 uColor;
 out vec4 outColor;

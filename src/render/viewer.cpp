@@ -19,6 +19,7 @@
 #include <string>
 
 #include "pbf/render/headless.hpp"
+#include "pbf/render/solid_mesh.hpp"
 #include "sim_worker.hpp"
 #include "viewer_panel.hpp"
 
@@ -161,6 +162,7 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     SceneRenderer renderer;
     renderer.setDomain(scene.simulation.domain);
     renderer.setParticleRadius(scene.simulation.particleRadius);
+    renderer.setSolids(tessellateSolids(scene));
     OrbitCamera camera = defaultViewerCamera(scene.simulation.domain, options);
 
     RenderSettings settings = options.settings;

@@ -27,6 +27,8 @@
 
 namespace pbf::render {
 
+struct SolidMesh;  // solid_mesh.hpp
+
 enum class Style { Spheres, Liquid };
 enum class ColorMode { Speed, Density, Flat };
 
@@ -74,6 +76,9 @@ class SceneRenderer {
 
     void setDomain(const Aabb& domain);
     void setParticleRadius(float radius);
+    // The scene's static solids (tessellateSolids), drawn lit in both looks
+    // and, in the liquid look, part of the background the water refracts.
+    void setSolids(const SolidMesh& mesh);
     void upload(const RenderParticles& particles);
     std::size_t particleCount() const;
 

@@ -1,0 +1,33 @@
+// The scene's static solids as triangles for the renderer: boxes (12
+// triangles), UV spheres, capped cylinders, planes clipped to the domain box
+// and OBJ meshes (pbf::loadTriangleMesh, placed by the scene's transform as
+// the solver places them).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "pbf/scene.hpp"
+
+namespace pbf::render {
+
+// Unindexed triangles, 6 floats per vertex (position x, y, z, normal x, y, z),
+// 3 vertices per triangle. Normals point out of the solid (the renderer
+// lights both sides anyway).
+struct SolidMesh {
+    std::vector<float> data;
+    std::size_t triangleCount() const { return data.size() / 18; }
+    Vec3 position(std::size_t vertex) const {
+        return {data[6 * vertex], data[6 * vertex + 1], data[6 * vertex + 2]};
+    }
+};
+
+// Appends one solid's surface to `mesh`. Planes are cut to `domain`.
+// Throws pbf::SolidError for a mesh file that cannot be loaded.
+void appendSolid(SolidMesh& mesh, const SolidDescription& solid, const Aabb& domain);
+
+// All solids of the scene; a mesh that cannot be loaded throws pbf::SceneError
+// naming the scene file and the field ("scenes/x.json: solids[0].file: ...").
+SolidMesh tessellateSolids(const Scene& scene);
+
+}  // namespace pbf::render
