@@ -11,13 +11,6 @@ Vec3 clampToBox(const Aabb& box, const Vec3& p) {
             std::clamp(p.z, box.min.z, box.max.z)};
 }
 
-// (W(r)/W(dq h))^n for small integer n without std::pow.
-float scorrPower(float ratio, int n) {
-    float result = ratio;
-    for (int k = 1; k < n; ++k) result *= ratio;
-    return result;
-}
-
 // Adds the walls of the domain box within reach of x: their kernel sum and
 // the gradient of that sum with respect to x (pointing into the walls).
 void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
@@ -129,10 +122,15 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
     }
 }
 
-void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
-                               const NeighborSearch& search,
-                               const Float3Array& predicted, const float* lambda,
-                               Float3Array& delta, std::size_t begin, std::size_t end) {
+namespace {
+
+// The correction loop for a compile-time s_corr exponent: (W/W(dq))^n as
+// straight multiplications, so the loop has no call and vectorises.
+template <int Exponent>
+void positionCorrectionRange(const SolverConstants& c, const SolidSet* solids,
+                             const NeighborSearch& search, const Float3Array& predicted,
+                             const float* lambda, Float3Array& delta, std::size_t begin,
+                             std::size_t end) {
     const float scale = c.particleMass * c.inverseRestDensity;
     const float* px = predicted.x.data();
     const float* py = predicted.y.data();
@@ -140,7 +138,6 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
     const float h = c.h, h2 = c.poly6.h2;
     const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient;
     const float scorrScale = c.scorrScale, inverseWdq = c.scorrInverseWdq;
-    const int exponent = c.scorrExponent;
     for (std::size_t i = begin; i < end; ++i) {
         const float xi = px[i], yi = py[i], zi = pz[i];
         const float lambdaI = lambda[i];
@@ -159,8 +156,8 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
             // Artificial pressure (eq. 13): a small repulsion that keeps
             // particles from clumping where the constraint is inactive.
             const float ratio = (inside ? poly6 * d2 * d2 * d2 : 0.0f) * inverseWdq;
-            const float ratio2 = ratio * ratio;
-            const float power = exponent == 4 ? ratio2 * ratio2 : scorrPower(ratio, exponent);
+            float power = ratio;
+            for (int e = 1; e < Exponent; ++e) power *= ratio;
             const float d = h - r;
             const float g = inside ? spiky * d * d / r : 0.0f;
             const float weight = g * (lambdaI + lambda[j] + scorrScale * power);
@@ -176,6 +173,24 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
         addSolidContribution(c, solids, {xi, yi, zi}, unusedKernelSum, wallGradient);
         dp += wallGradient * lambdaI;
         delta.set(i, dp * scale);
+    }
+}
+
+}  // namespace
+
+void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
+                               const NeighborSearch& search, const Float3Array& predicted,
+                               const float* lambda, Float3Array& delta, std::size_t begin,
+                               std::size_t end) {
+    switch (c.scorrExponent) {
+        case 1: return positionCorrectionRange<1>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 2: return positionCorrectionRange<2>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 3: return positionCorrectionRange<3>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 4: return positionCorrectionRange<4>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 5: return positionCorrectionRange<5>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 6: return positionCorrectionRange<6>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 7: return positionCorrectionRange<7>(c, solids, search, predicted, lambda, delta, begin, end);
+        default: return positionCorrectionRange<8>(c, solids, search, predicted, lambda, delta, begin, end);
     }
 }
 
