@@ -32,7 +32,9 @@ Emitter::Emitter(const EmitterDescription& description, const SimulationParams& 
     inside_ = {params.domain.min + Vec3{r, r, r}, params.domain.max - Vec3{r, r, r}};
 }
 
-double Emitter::rate() const { return double(disc_.size()) * description_.speed / spacing_; }
+double Emitter::rate() const {
+    return double(disc_.size()) * description_.speed / spacing_;
+}
 
 void Emitter::emit(double time, double dt, ParticleStore& particles, const SolidSet* solids) {
     const EmitterDescription& e = description_;
@@ -51,7 +53,8 @@ void Emitter::emit(double time, double dt, ParticleStore& particles, const Solid
             const Vec3 x = centre + offset;
             Vec3 normal;
             if (!inside_.contains(x)) continue;
-            if (solids && solids->signedDistance(x, particleRadius_, normal) < particleRadius_) continue;
+            if (solids && solids->signedDistance(x, particleRadius_, normal) < particleRadius_)
+                continue;
             particles.add(x, velocity, restDensity_);
             ++emitted_;
         }

@@ -42,7 +42,8 @@ void writeFileAtomically(const std::filesystem::path& path,
         errno = 0;
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
         if (!out)
-            throw IoError(describe(path, "cannot create file (is the directory writable?)" + lastError()));
+            throw IoError(
+                describe(path, "cannot create file (is the directory writable?)" + lastError()));
         errno = 0;
         write(out);
         out.flush();

@@ -93,8 +93,7 @@ Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
     float c[3];
     for (std::size_t k = 0; k < 3; ++k) {
         const nlohmann::json& e = (*v)[k];
-        if (!e.is_number() || !std::isfinite(e.get<double>()) ||
-            std::fabs(e.get<double>()) > 1e30)
+        if (!e.is_number() || !std::isfinite(e.get<double>()) || std::fabs(e.get<double>()) > 1e30)
             fail(key, "expected an array of 3 finite numbers, got " + show(*v));
         c[k] = static_cast<float>(e.get<double>());
     }

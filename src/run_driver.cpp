@@ -138,7 +138,8 @@ void RunDriver::record(const FrameReport& report) {
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
     totals_.maxDensityError = std::max(totals_.maxDensityError, report.state.maxDensityError);
     totals_.maxEscaped = std::max<std::uint64_t>(totals_.maxEscaped, report.state.escaped);
-    totals_.maxInsideSolid = std::max<std::uint64_t>(totals_.maxInsideSolid, report.state.insideSolid);
+    totals_.maxInsideSolid =
+        std::max<std::uint64_t>(totals_.maxInsideSolid, report.state.insideSolid);
     totals_.densityErrorSum += report.state.averageDensityError;
     totals_.substeps += report.substeps;
     totals_.solverMilliseconds += report.stageMs.total;

@@ -38,7 +38,8 @@ bool nestedTooDeep(std::string_view text) {
         if (depth > kMaxNesting) tooDeep = true;
         return !tooDeep;  // discard what is too deep instead of building it
     };
-    [[maybe_unused]] const json parsed = json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    [[maybe_unused]] const json parsed =
+        json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
     return tooDeep;
 }
 
@@ -52,13 +53,15 @@ std::string fieldOfNumber(std::string_view text, const std::string& message) {
     if (at == std::string_view::npos) return {};
     const std::size_t colon = text.rfind(':', at);
     const std::size_t end = colon == std::string_view::npos ? colon : text.rfind('"', colon);
-    const std::size_t begin = end == std::string_view::npos || end == 0 ? end : text.rfind('"', end - 1);
+    const std::size_t begin =
+        end == std::string_view::npos || end == 0 ? end : text.rfind('"', end - 1);
     if (begin == std::string_view::npos || end == std::string_view::npos) return {};
     return std::string(text.substr(begin + 1, end - begin - 1)) + ": ";
 }
 
 void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
-    if (std::count(o.path.begin(), o.path.end(), '.') >= static_cast<std::ptrdiff_t>(kMaxOverrideDepth))
+    if (std::count(o.path.begin(), o.path.end(), '.') >=
+        static_cast<std::ptrdiff_t>(kMaxOverrideDepth))
         throw SceneError(file + ": --set " + o.path.substr(0, 200) + ": more than " +
                          std::to_string(kMaxOverrideDepth) + " levels of fields");
     json* node = &document;
@@ -87,8 +90,8 @@ void applyOverride(json& document, const SceneOverride& o, const std::string& fi
         }
     }
     if (nestedTooDeep(o.value))
-        throw SceneError(file + ": --set " + o.path + ": value nested deeper than " + std::to_string(kMaxNesting) +
-                         " levels");
+        throw SceneError(file + ": --set " + o.path + ": value nested deeper than " +
+                         std::to_string(kMaxNesting) + " levels");
     // A value that is not JSON (a bare word) is taken as a string.
     try {
         *node = json::parse(o.value);
@@ -225,7 +228,9 @@ void readSolids(JsonReader& root, Scene& scene) {
             d.transform.rotationDegrees = r.vec3("rotation", {});
             d.transform.translation = r.vec3("translation", {});
         } else {
-            r.fail("type", "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" + type + "\"");
+            r.fail("type",
+                   "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" +
+                       type + "\"");
         }
         r.finish();
         scene.solids.push_back(d);
@@ -239,7 +244,8 @@ void readEmitters(JsonReader& root, Scene& scene) {
         e.field = "emitters[" + std::to_string(i) + "]";
         JsonReader r(emitters[i], e.field, scene.source);
         e.position = r.requiredVec3("position");
-        if (!scene.simulation.domain.contains(e.position)) r.fail("position", "must lie inside the domain");
+        if (!scene.simulation.domain.contains(e.position))
+            r.fail("position", "must lie inside the domain");
         e.direction = direction(r, "direction", e.direction);
         e.radius = positive(r, "radius", 0.0f);
         if (e.radius < scene.simulation.particleRadius)
@@ -270,8 +276,10 @@ std::uint64_t fingerprintOf(json document) {
     if (auto out = document.find("output"); out != document.end() && out->is_object()) {
         json kept = json::object();
         if (out->contains("fps")) kept["fps"] = (*out)["fps"];
-        if (kept.empty()) document.erase(out);
-        else *out = kept;
+        if (kept.empty())
+            document.erase(out);
+        else
+            *out = kept;
     }
     return detail::fnv1a64(document.dump(-1, ' ', false, json::error_handler_t::replace));
 }
@@ -290,7 +298,8 @@ std::size_t emitterDiscSize(const Scene& scene, const EmitterDescription& e) {
 std::size_t emitterBudget(const Scene& scene, const EmitterDescription& e) {
     const double runEnd = scene.output.frames / double(scene.output.fps);
     const double duration = std::max(0.0, std::min<double>(e.end, runEnd) - e.start);
-    const double rate = double(emitterDiscSize(scene, e)) * e.speed / scene.simulation.particleSpacing();
+    const double rate =
+        double(emitterDiscSize(scene, e)) * e.speed / scene.simulation.particleSpacing();
     const double count = std::min(rate * duration + double(emitterDiscSize(scene, e)), 1e12);
     const auto byTime = static_cast<std::size_t>(count);
     return e.maxParticles > 0 ? std::min(byTime, e.maxParticles) : byTime;
@@ -309,7 +318,8 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     if (nestedTooDeep(jsonText))
         throw SceneError(sourceName + ": JSON nested deeper than " + std::to_string(kMaxNesting) +
                          " levels (a scene needs 4)");
-    json document = json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    json document =
+        json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
     if (document.is_discarded()) {
         // Parse again with exceptions for the position of the error.
         try {
@@ -424,10 +434,18 @@ std::shared_ptr<const SolidSet> buildSolids(const Scene& scene) {
     for (const SolidDescription& d : scene.solids) {
         using Kind = SolidDescription::Kind;
         switch (d.kind) {
-            case Kind::Box: set->add(makeBoxSolid(d.box)); break;
-            case Kind::Sphere: set->add(makeSphereSolid(d.center, d.radius)); break;
-            case Kind::Plane: set->add(makePlaneSolid(d.point, d.normal, sim.domain)); break;
-            case Kind::Cylinder: set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height)); break;
+            case Kind::Box:
+                set->add(makeBoxSolid(d.box));
+                break;
+            case Kind::Sphere:
+                set->add(makeSphereSolid(d.center, d.radius));
+                break;
+            case Kind::Plane:
+                set->add(makePlaneSolid(d.point, d.normal, sim.domain));
+                break;
+            case Kind::Cylinder:
+                set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height));
+                break;
             case Kind::Mesh: {
                 MeshSolidOptions options;
                 options.voxelSize = 0.5f * sim.particleRadius;

@@ -35,7 +35,8 @@ void Simulation::restore(ParticleStore particles, int frame, double time,
                          const std::vector<EmitterState>& emitters) {
     if (emitters.size() != emitters_.size())
         throw std::invalid_argument("Simulation::restore: " + std::to_string(emitters.size()) +
-                                    " emitter states for " + std::to_string(emitters_.size()) + " emitters");
+                                    " emitter states for " + std::to_string(emitters_.size()) +
+                                    " emitters");
     for (std::size_t k = 0; k < emitters.size(); ++k) emitters_[k].setState(emitters[k]);
     particles_ = std::move(particles);
     frame_ = frame;
@@ -111,8 +112,8 @@ FrameReport Simulation::report() const {
     r.frame = frame_;
     r.time = time_;
     r.iterations = scene_.simulation.solver.iterations;
-    r.state = computeStatistics(particles_, solver_.constants(), scene_.simulation.domain, solids_.get(),
-                                scene_.simulation.particleRadius);
+    r.state = computeStatistics(particles_, solver_.constants(), scene_.simulation.domain,
+                                solids_.get(), scene_.simulation.particleRadius);
     return r;
 }
 

@@ -1,9 +1,9 @@
+#include "pbf/solids.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
-
-#include "pbf/solids.hpp"
 
 namespace pbf {
 namespace {
@@ -20,7 +20,7 @@ std::string format(const Vec3& v) {
 }
 
 class BoxSolid final : public Solid {
-public:
+  public:
     explicit BoxSolid(const Aabb& box) : box_(box) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
         const Vec3 centre = (box_.min + box_.max) * 0.5f;
@@ -48,14 +48,16 @@ public:
         return q.z;
     }
     Aabb bounds() const override { return box_; }
-    std::string describe() const override { return "box " + format(box_.min) + " - " + format(box_.max); }
+    std::string describe() const override {
+        return "box " + format(box_.min) + " - " + format(box_.max);
+    }
 
-private:
+  private:
     Aabb box_;
 };
 
 class SphereSolid final : public Solid {
-public:
+  public:
     SphereSolid(const Vec3& c, float r) : centre_(c), radius_(r) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
         const Vec3 d = p - centre_;
@@ -70,13 +72,13 @@ public:
         return "sphere at " + format(centre_) + " radius " + std::to_string(radius_);
     }
 
-private:
+  private:
     Vec3 centre_;
     float radius_;
 };
 
 class PlaneSolid final : public Solid {
-public:
+  public:
     PlaneSolid(const Vec3& point, const Vec3& normal, const Aabb& domain)
         : point_(point), normal_(normalised(normal)), domain_(domain) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
@@ -84,16 +86,18 @@ public:
         return dot(p - point_, normal_);
     }
     Aabb bounds() const override { return domain_; }
-    std::string describe() const override { return "plane through " + format(point_) + " normal " + format(normal_); }
+    std::string describe() const override {
+        return "plane through " + format(point_) + " normal " + format(normal_);
+    }
 
-private:
+  private:
     Vec3 point_;
     Vec3 normal_;
     Aabb domain_;
 };
 
 class CylinderSolid final : public Solid {
-public:
+  public:
     CylinderSolid(const Vec3& base, const Vec3& axis, float radius, float height)
         : base_(base), axis_(normalised(axis)), radius_(radius), height_(height) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
@@ -102,7 +106,8 @@ public:
         const float along = dot(d, axis_);
         const Vec3 radialVector = d - axis_ * along;
         const float radial = length(radialVector);
-        const Vec3 radialDirection = radial > 0.0f ? radialVector * (1.0f / radial) : perpendicular();
+        const Vec3 radialDirection =
+            radial > 0.0f ? radialVector * (1.0f / radial) : perpendicular();
         const float halfHeight = 0.5f * height_;
         const float qa = std::fabs(along - halfHeight) - halfHeight;  // axial
         const float qr = radial - radius_;                            // radial
@@ -122,17 +127,19 @@ public:
     Aabb bounds() const override {
         const Vec3 top = base_ + axis_ * height_;
         const Vec3 r{radius_, radius_, radius_};
-        return {Vec3{std::min(base_.x, top.x), std::min(base_.y, top.y), std::min(base_.z, top.z)} - r,
-                Vec3{std::max(base_.x, top.x), std::max(base_.y, top.y), std::max(base_.z, top.z)} + r};
+        return {
+            Vec3{std::min(base_.x, top.x), std::min(base_.y, top.y), std::min(base_.z, top.z)} - r,
+            Vec3{std::max(base_.x, top.x), std::max(base_.y, top.y), std::max(base_.z, top.z)} + r};
     }
     std::string describe() const override {
         return "cylinder from " + format(base_) + " along " + format(axis_) + " radius " +
                std::to_string(radius_) + " height " + std::to_string(height_);
     }
 
-private:
+  private:
     Vec3 perpendicular() const {
-        return normalised(std::fabs(axis_.x) < 0.9f ? cross(axis_, {1, 0, 0}) : cross(axis_, {0, 1, 0}));
+        return normalised(std::fabs(axis_.x) < 0.9f ? cross(axis_, {1, 0, 0})
+                                                    : cross(axis_, {0, 1, 0}));
     }
     Vec3 base_;
     Vec3 axis_;
@@ -169,19 +176,25 @@ float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal) const {
 Vec3 Transform::apply(const Vec3& p) const {
     Vec3 q{p.x * scale.x, p.y * scale.y, p.z * scale.z};
     const float rad = std::numbers::pi_v<float> / 180.0f;
-    const float ax = rotationDegrees.x * rad, ay = rotationDegrees.y * rad, az = rotationDegrees.z * rad;
+    const float ax = rotationDegrees.x * rad, ay = rotationDegrees.y * rad,
+                az = rotationDegrees.z * rad;
     q = {q.x, std::cos(ax) * q.y - std::sin(ax) * q.z, std::sin(ax) * q.y + std::cos(ax) * q.z};
     q = {std::cos(ay) * q.x + std::sin(ay) * q.z, q.y, -std::sin(ay) * q.x + std::cos(ay) * q.z};
     q = {std::cos(az) * q.x - std::sin(az) * q.y, std::sin(az) * q.x + std::cos(az) * q.y, q.z};
     return q + translation;
 }
 
-std::unique_ptr<Solid> makeBoxSolid(const Aabb& box) { return std::make_unique<BoxSolid>(box); }
-std::unique_ptr<Solid> makeSphereSolid(const Vec3& c, float r) { return std::make_unique<SphereSolid>(c, r); }
+std::unique_ptr<Solid> makeBoxSolid(const Aabb& box) {
+    return std::make_unique<BoxSolid>(box);
+}
+std::unique_ptr<Solid> makeSphereSolid(const Vec3& c, float r) {
+    return std::make_unique<SphereSolid>(c, r);
+}
 std::unique_ptr<Solid> makePlaneSolid(const Vec3& point, const Vec3& normal, const Aabb& domain) {
     return std::make_unique<PlaneSolid>(point, normal, domain);
 }
-std::unique_ptr<Solid> makeCylinderSolid(const Vec3& base, const Vec3& axis, float radius, float height) {
+std::unique_ptr<Solid> makeCylinderSolid(const Vec3& base, const Vec3& axis, float radius,
+                                         float height) {
     return std::make_unique<CylinderSolid>(base, axis, radius, height);
 }
 

@@ -147,9 +147,11 @@ void Solver::step(ParticleStore& p, float dt) {
         // Correction and its application fused in one pass: the corrected
         // positions go to a second array, swapped in afterwards.
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computePositionCorrection(c, solids, search_, p.predicted, lambda, delta_, b, e);
+            stages::computePositionCorrection(c, solids, search_, p.predicted, lambda, delta_, b,
+                                              e);
             stages::applyPositionCorrection(box, delta_, p.predicted, corrected_, b, e);
-            if (solids) stages::resolveSolidCollisions(c, *solids, radius, p.position, corrected_, b, e);
+            if (solids)
+                stages::resolveSolidCollisions(c, *solids, radius, p.position, corrected_, b, e);
         });
         std::swap(p.predicted, corrected_);
     }
@@ -163,8 +165,9 @@ void Solver::step(ParticleStore& p, float dt) {
     });
     if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeVorticityAndViscosity(c, fluid.viscosity, fluid.vorticity > 0.0f, search_, p.predicted,
-                                                 p.velocity, density, vorticity_, delta_, b, e);
+            stages::computeVorticityAndViscosity(c, fluid.viscosity, fluid.vorticity > 0.0f,
+                                                 search_, p.predicted, p.velocity, density,
+                                                 vorticity_, delta_, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::applyVorticityAndViscosity(c, fluid.vorticity, dt, search_, p.predicted,
@@ -173,7 +176,9 @@ void Solver::step(ParticleStore& p, float dt) {
     }
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
         stages::respondToWalls(box, s.restitution, s.friction, p.predicted, p.velocity, b, e);
-        if (solids) stages::respondToSolids(*solids, radius, s.restitution, s.friction, p.predicted, p.velocity, b, e);
+        if (solids)
+            stages::respondToSolids(*solids, radius, s.restitution, s.friction, p.predicted,
+                                    p.velocity, b, e);
         stages::commitPositions(p.predicted, p.position, b, e);
     });
     times_.postProcess = millisecondsSince(t);
@@ -182,9 +187,8 @@ void Solver::step(ParticleStore& p, float dt) {
 
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
-           sizeof(float) *
-               (lambda_.capacity() + 3 * delta_.x.capacity() + 3 * corrected_.x.capacity() +
-                3 * vorticity_.x.capacity());
+           sizeof(float) * (lambda_.capacity() + 3 * delta_.x.capacity() +
+                            3 * corrected_.x.capacity() + 3 * vorticity_.x.capacity());
 }
 
 float maxSpeed(const ParticleStore& p) {

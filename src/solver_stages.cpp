@@ -74,9 +74,8 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
 // alone, so results stay bit-identical across thread counts.
 
 void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search,
-                             const Float3Array& predicted, float* density, float* lambda,
-                             std::size_t begin, std::size_t end) {
+                             const NeighborSearch& search, const Float3Array& predicted,
+                             float* density, float* lambda, std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
     const float* px = predicted.x.data();
     const float* py = predicted.y.data();
@@ -183,19 +182,36 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
                                const float* lambda, Float3Array& delta, std::size_t begin,
                                std::size_t end) {
     switch (c.scorrExponent) {
-        case 1: return positionCorrectionRange<1>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 2: return positionCorrectionRange<2>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 3: return positionCorrectionRange<3>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 4: return positionCorrectionRange<4>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 5: return positionCorrectionRange<5>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 6: return positionCorrectionRange<6>(c, solids, search, predicted, lambda, delta, begin, end);
-        case 7: return positionCorrectionRange<7>(c, solids, search, predicted, lambda, delta, begin, end);
-        default: return positionCorrectionRange<8>(c, solids, search, predicted, lambda, delta, begin, end);
+        case 1:
+            return positionCorrectionRange<1>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 2:
+            return positionCorrectionRange<2>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 3:
+            return positionCorrectionRange<3>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 4:
+            return positionCorrectionRange<4>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 5:
+            return positionCorrectionRange<5>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 6:
+            return positionCorrectionRange<6>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        case 7:
+            return positionCorrectionRange<7>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
+        default:
+            return positionCorrectionRange<8>(c, solids, search, predicted, lambda, delta, begin,
+                                              end);
     }
 }
 
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta, const Float3Array& predicted,
-                             Float3Array& corrected, std::size_t begin, std::size_t end) {
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
+                             const Float3Array& predicted, Float3Array& corrected,
+                             std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
         corrected.set(i, clampToBox(box, predicted.get(i) + delta.get(i)));
 }
@@ -349,7 +365,8 @@ void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, fl
             float travelled = std::max(startDistance, 0.0f);
             bool hit = startDistance <= hitDistance;
             for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
-                const float d = solids.signedDistance(start + direction * travelled, moveLength + reach, normal);
+                const float d = solids.signedDistance(start + direction * travelled,
+                                                      moveLength + reach, normal);
                 if (d <= hitDistance) {
                     hit = true;
                     break;
@@ -380,9 +397,10 @@ void respondToSolids(const SolidSet& solids, float radius, float restitution, fl
         if (vn >= 0.0f) continue;  // separating
         const Vec3 tangential = v - normal * vn;
         const float tangentialSpeed = length(tangential);
-        const float keep = tangentialSpeed > 0.0f
-                               ? std::max(0.0f, 1.0f - friction * (1.0f + restitution) * -vn / tangentialSpeed)
-                               : 0.0f;
+        const float keep =
+            tangentialSpeed > 0.0f
+                ? std::max(0.0f, 1.0f - friction * (1.0f + restitution) * -vn / tangentialSpeed)
+                : 0.0f;
         v = tangential * keep - normal * (restitution * vn);
         velocity.set(i, v);
     }

@@ -22,21 +22,21 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), with C_i = max(rho_i/rho0 - 1, 0)
 // so that particles at a free surface (missing neighbours) are never pulled in.
 void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search,
-                             const Float3Array& predicted, float* density, float* lambda,
-                             std::size_t begin, std::size_t end);
+                             const NeighborSearch& search, const Float3Array& predicted,
+                             float* density, float* lambda, std::size_t begin, std::size_t end);
 
 // Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij.
 void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
-                               const NeighborSearch& search,
-                               const Float3Array& predicted, const float* lambda,
-                               Float3Array& delta, std::size_t begin, std::size_t end);
+                               const NeighborSearch& search, const Float3Array& predicted,
+                               const float* lambda, Float3Array& delta, std::size_t begin,
+                               std::size_t end);
 
 // corrected = x* + dp, projected into the collision box (Alg. 1 l. 16-18).
 // Written to a second array so that it can run in the same pass as the
 // correction itself (other blocks still read x*).
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta, const Float3Array& predicted,
-                             Float3Array& corrected, std::size_t begin, std::size_t end);
+void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
+                             const Float3Array& predicted, Float3Array& corrected,
+                             std::size_t begin, std::size_t end);
 
 // Keeps x* at least one particle radius outside every solid. The move from x
 // (outside, the start of the step) to x* is swept by sphere tracing the

@@ -34,7 +34,8 @@ struct Partial {
 }  // namespace
 
 StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants& c,
-                                  const Aabb& domain, const SolidSet* solids, float particleRadius) {
+                                  const Aabb& domain, const SolidSet* solids,
+                                  float particleRadius) {
     const Partial total =
         detail::parallelSum<Partial>(p.size(), [&](std::size_t begin, std::size_t end) {
             Partial s;
@@ -51,9 +52,10 @@ StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants&
                 s.pz += v.z;
                 // contains() is false for NaN coordinates, so NaN counts as escaped.
                 if (!domain.contains(p.position.get(i))) ++s.escaped;
-            Vec3 normal;
-            if (solids && solids->signedDistance(p.position.get(i), particleRadius, normal) < -0.5f * particleRadius)
-                ++s.insideSolid;
+                Vec3 normal;
+                if (solids && solids->signedDistance(p.position.get(i), particleRadius, normal) <
+                                  -0.5f * particleRadius)
+                    ++s.insideSolid;
             }
             return s;
         });

@@ -1,9 +1,10 @@
 // Emitters: the particle count follows the configured rate.
+#include "pbf/emitter.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "pbf/emitter.hpp"
 #include "pbf/scene.hpp"
 #include "pbf/simulation.hpp"
 
@@ -11,7 +12,8 @@ namespace {
 
 pbf::Scene emitterScene(const std::string& emitter) {
     return pbf::parseScene(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_radius": 0.01,
-      "gravity": [0, 0, 0], "output": {"fps": 50, "frames": 25}, "emitters": [)" + emitter + "]}",
+      "gravity": [0, 0, 0], "output": {"fps": 50, "frames": 25}, "emitters": [)" +
+                               emitter + "]}",
                            "emit.json");
 }
 
@@ -27,7 +29,8 @@ TEST(Emitter, CountFollowsTheRate) {
         const double active = std::clamp(sim.time() - 0.1, 0.0, 0.3);
         const double expected = emitter.rate() * active;
         // Within one disc (the particles of one emission interval).
-        EXPECT_NEAR(double(sim.particles().size()), expected, double(emitter.discSize()) * (1.0 + 1e-5))
+        EXPECT_NEAR(double(sim.particles().size()), expected,
+                    double(emitter.discSize()) * (1.0 + 1e-5))
             << "t = " << sim.time();
     }
     EXPECT_NEAR(emitter.rate(), double(emitter.discSize()) / interval, 1e-5 * emitter.rate());
@@ -50,12 +53,18 @@ TEST(Emitter, BudgetIsRespected) {
 }
 
 TEST(Emitter, BadEmittersAreRefused) {
-    EXPECT_THROW(emitterScene(R"({"position": [5, 0.9, 0.5], "radius": 0.05, "speed": 1})"), pbf::SceneError);
-    EXPECT_THROW(emitterScene(R"({"position": [0.5, 0.9, 0.5], "radius": 0.05, "speed": -1})"), pbf::SceneError);
-    EXPECT_THROW(emitterScene(R"({"position": [0.5, 0.9, 0.5], "direction": [0,0,0], "radius": 0.05, "speed": 1})"),
+    EXPECT_THROW(emitterScene(R"({"position": [5, 0.9, 0.5], "radius": 0.05, "speed": 1})"),
                  pbf::SceneError);
-    EXPECT_THROW(emitterScene(R"({"position": [0.5, 0.9, 0.5], "radius": 0.05, "speed": 1, "start": 2, "end": 1})"),
+    EXPECT_THROW(emitterScene(R"({"position": [0.5, 0.9, 0.5], "radius": 0.05, "speed": -1})"),
                  pbf::SceneError);
+    EXPECT_THROW(
+        emitterScene(
+            R"({"position": [0.5, 0.9, 0.5], "direction": [0,0,0], "radius": 0.05, "speed": 1})"),
+        pbf::SceneError);
+    EXPECT_THROW(
+        emitterScene(
+            R"({"position": [0.5, 0.9, 0.5], "radius": 0.05, "speed": 1, "start": 2, "end": 1})"),
+        pbf::SceneError);
 }
 
 }  // namespace

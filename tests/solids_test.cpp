@@ -1,5 +1,7 @@
 // Solids: distance fields, mesh loading and its errors, collisions that
 // never leak, boundary density at solids, particles not spawned in solids.
+#include "pbf/solids.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 
 #include "pbf/scene.hpp"
 #include "pbf/simulation.hpp"
-#include "pbf/solids.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -40,7 +41,8 @@ TEST(Solids, AnalyticDistancesAndNormals) {
     EXPECT_NEAR(n.x, 1.0f, 1e-6f);
     EXPECT_NEAR(cylinder->signedDistance({0, 1.5f, 0}, n), 0.5f, 1e-6f);
     EXPECT_NEAR(cylinder->signedDistance({0, 0.5f, 0.1f}, n), -0.1f, 1e-6f);
-    EXPECT_NEAR(cylinder->signedDistance({0.5f, 1.4f, 0}, n), 0.5f, 1e-6f);  // corner: sqrt(.3^2+.4^2)
+    EXPECT_NEAR(cylinder->signedDistance({0.5f, 1.4f, 0}, n), 0.5f,
+                1e-6f);  // corner: sqrt(.3^2+.4^2)
 }
 
 TEST(Solids, MeshDistanceMatchesTheShape) {
@@ -60,7 +62,8 @@ TEST(Solids, MeshDistanceMatchesTheShape) {
         Vec3 n1, n2;
         const float exact = box->signedDistance(p, n2);
         if (std::fabs(exact) > 0.04f) continue;  // inside the narrow band only
-        EXPECT_NEAR(mesh->signedDistance(p, n1), exact, 0.5f * options.voxelSize) << p.x << " " << p.y << " " << p.z;
+        EXPECT_NEAR(mesh->signedDistance(p, n1), exact, 0.5f * options.voxelSize)
+            << p.x << " " << p.y << " " << p.z;
     }
 }
 
@@ -68,7 +71,8 @@ TEST(Solids, StanfordBunnyIsClosed) {
     pbf::MeshInfo info;
     pbf::Transform t;
     t.scale = {0.035f, 0.035f, 0.035f};
-    auto bunny = pbf::loadMeshSolid(pbf::test::scenePath("assets/bunny.obj"), t, {0.004f, 0.05f, 0.008f}, &info);
+    auto bunny = pbf::loadMeshSolid(pbf::test::scenePath("assets/bunny.obj"), t,
+                                    {0.004f, 0.05f, 0.008f}, &info);
     EXPECT_TRUE(info.closed());
     EXPECT_EQ(info.triangles, 3674u);
     Vec3 n;
@@ -78,7 +82,8 @@ TEST(Solids, StanfordBunnyIsClosed) {
 
 TEST(Solids, BadMeshesGiveClearErrors) {
     const pbf::MeshSolidOptions options{0.01f, 0.05f, 0.01f};
-    auto expectError = [&](const std::string& file, const std::string& fragment, double maxVoxels = 2e8) {
+    auto expectError = [&](const std::string& file, const std::string& fragment,
+                           double maxVoxels = 2e8) {
         try {
             pbf::loadMeshSolid(file, {}, options, nullptr, maxVoxels);
             FAIL() << "no error for " << file;
@@ -103,38 +108,49 @@ TEST(Solids, OpenMeshBecomesAShell) {
     EXPECT_FALSE(info.closed());
     EXPECT_EQ(info.boundaryEdges, 4u);
     Vec3 n;
-    EXPECT_LT(shell->signedDistance({0.5f, 0.0f, 0.5f}, n), 0.0f);         // on the sheet: inside the shell
-    EXPECT_NEAR(shell->signedDistance({0.5f, 0.03f, 0.5f}, n), 0.02f, 0.006f);  // 3 cm above, shell 1 cm
+    EXPECT_LT(shell->signedDistance({0.5f, 0.0f, 0.5f}, n),
+              0.0f);  // on the sheet: inside the shell
+    EXPECT_NEAR(shell->signedDistance({0.5f, 0.03f, 0.5f}, n), 0.02f,
+                0.006f);  // 3 cm above, shell 1 cm
 }
 
 TEST(Solids, SceneErrorsNameTheField) {
-    const std::string json = pbf::test::smallSceneJson(R"("solids": [{"type": "mesh", "file": "nowhere.obj"}])");
+    const std::string json =
+        pbf::test::smallSceneJson(R"("solids": [{"type": "mesh", "file": "nowhere.obj"}])");
     const pbf::Scene scene = pbf::parseScene(json, "s.json");
     try {
         pbf::buildSolids(scene);
         FAIL();
     } catch (const pbf::SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find("s.json: solids[0].file: nowhere.obj"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("s.json: solids[0].file: nowhere.obj"),
+                  std::string::npos)
+            << e.what();
     }
-    EXPECT_THROW(pbf::parseScene(pbf::test::smallSceneJson(R"("solids": [{"type": "torus"}])"), "s.json"),
-                 pbf::SceneError);
-    EXPECT_THROW(pbf::parseScene(pbf::test::smallSceneJson(R"("solids": [{"type": "sphere", "center": [0,0,0], "radius": -1}])"), "s.json"),
-                 pbf::SceneError);
+    EXPECT_THROW(
+        pbf::parseScene(pbf::test::smallSceneJson(R"("solids": [{"type": "torus"}])"), "s.json"),
+        pbf::SceneError);
+    EXPECT_THROW(
+        pbf::parseScene(pbf::test::smallSceneJson(
+                            R"("solids": [{"type": "sphere", "center": [0,0,0], "radius": -1}])"),
+                        "s.json"),
+        pbf::SceneError);
 }
 
 TEST(Solids, ParticlesAreNotSpawnedInsideSolids) {
-    const std::string json = pbf::test::smallSceneJson(R"("solids": [{"type": "sphere", "center": [0.1, 0.1, 0.1], "radius": 0.06}])");
+    const std::string json = pbf::test::smallSceneJson(
+        R"("solids": [{"type": "sphere", "center": [0.1, 0.1, 0.1], "radius": 0.06}])");
     const pbf::Scene scene = pbf::parseScene(json, "s.json");
     pbf::Simulation sim(scene);
     EXPECT_GT(sim.skippedParticles(), 0u);
     EXPECT_EQ(sim.particles().size() + sim.skippedParticles(), 125u);
     for (std::size_t i = 0; i < sim.particles().size(); ++i)
-        EXPECT_GE(pbf::length(sim.particles().position.get(i) - Vec3{0.1f, 0.1f, 0.1f}), 0.06f + 0.02f - 1e-5f);
+        EXPECT_GE(pbf::length(sim.particles().position.get(i) - Vec3{0.1f, 0.1f, 0.1f}),
+                  0.06f + 0.02f - 1e-5f);
 }
 
 // Every frame of a run: nothing inside a solid, nothing outside the domain.
-void expectNoLeaks(const std::string& sceneFile, std::vector<pbf::SceneOverride> overrides, double seconds,
-                   float maxX = 1e30f) {
+void expectNoLeaks(const std::string& sceneFile, std::vector<pbf::SceneOverride> overrides,
+                   double seconds, float maxX = 1e30f) {
     pbf::Simulation sim(pbf::loadScene(pbf::test::scenePath(sceneFile), overrides));
     while (sim.time() < seconds) {
         const pbf::FrameReport r = sim.advanceFrame();
@@ -191,12 +207,14 @@ std::pair<double, double> restAgainstSolid(const std::string& solid) {
 }
 
 TEST(Solids, RestingWaterAtASolidHasInteriorDensity) {
-    for (const std::string& solid :
-         {std::string(R"({"type": "box", "min": [0.15, 0.0, 0.15], "max": [0.25, 0.3, 0.25]})"),
-          std::string(R"({"type": "mesh", "file": "cube.obj", "scale": [0.1, 0.3, 0.1], "translation": [0.15, 0.0, 0.15]})")}) {
+    for (
+        const std::string& solid :
+        {std::string(R"({"type": "box", "min": [0.15, 0.0, 0.15], "max": [0.25, 0.3, 0.25]})"),
+         std::string(
+             R"({"type": "mesh", "file": "cube.obj", "scale": [0.1, 0.3, 0.1], "translation": [0.15, 0.0, 0.15]})")}) {
         const auto [nearDensity, farDensity] = restAgainstSolid(solid);
-        std::printf("resting at %s: density near the solid %.1f, interior %.1f kg/m^3\n", solid.c_str(),
-                    nearDensity, farDensity);
+        std::printf("resting at %s: density near the solid %.1f, interior %.1f kg/m^3\n",
+                    solid.c_str(), nearDensity, farDensity);
         EXPECT_NEAR(nearDensity, farDensity, 0.02 * farDensity) << solid;
         EXPECT_GT(nearDensity, 980.0) << solid;
     }

@@ -31,8 +31,8 @@ struct RunArguments {
     bool vdbPoints = false;
     bool mesh = false;
     bool resume = false;
-    int checkpointEvery = -1;        // -1: the scene's output.checkpoint_every
-    double checkpointSeconds = -1.0; // -1: the scene's output.checkpoint_seconds
+    int checkpointEvery = -1;         // -1: the scene's output.checkpoint_every
+    double checkpointSeconds = -1.0;  // -1: the scene's output.checkpoint_seconds
 };
 
 // The command that continues a run (printed when a run stops early).
@@ -53,16 +53,19 @@ int runScene(const RunArguments& args) {
     if (args.noParticles) scene.output.writeParticles = false;
     if (args.vdbPoints) scene.output.writeVdbPoints = true;
     if (args.mesh && !scene.output.writeParticles)
-        throw SceneError("--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
+        throw SceneError(
+            "--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
     if (args.checkpointEvery >= 0) scene.output.checkpointEvery = args.checkpointEvery;
-    if (args.checkpointSeconds >= 0.0) scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
+    if (args.checkpointSeconds >= 0.0)
+        scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
     if (args.threads > 0) setThreadCount(args.threads);
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(scene, available);
 
     const std::size_t particles = countParticles(scene);
     if (!args.quiet)
-        fmt::print(stderr, "pbf run: {} (up to {} particles, {} frames at {} fps, {} threads) -> {}\n",
+        fmt::print(stderr,
+                   "pbf run: {} (up to {} particles, {} frames at {} fps, {} threads) -> {}\n",
                    scene.name, particles, scene.output.frames, scene.output.fps, threadCount(),
                    scene.output.directory);
     ProgressBar progress("simulating", scene.output.frames, !args.quiet);
@@ -76,15 +79,18 @@ int runScene(const RunArguments& args) {
             for (std::size_t k = 0; k < solids->size(); ++k)
                 fmt::print(stderr, "pbf run: solid {}: {}\n", k, (*solids)[k].describe());
         if (simulation.skippedParticles() > 0)
-            fmt::print(stderr, "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
-                       simulation.skippedParticles());
+            fmt::print(
+                stderr,
+                "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
+                simulation.skippedParticles());
         for (const Emitter& e : simulation.emitters())
-            fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n", e.discSize(),
-                       e.rate());
+            fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n",
+                       e.discSize(), e.rate());
     };
     if (scene.output.writeVdbPoints)
         options.writeFrame = [&](int frame, const ParticleStore& store) {
-            surface::writeParticlesVdb(options.outputDirectory / fmt::format("frame_{:05d}.vdb", frame), store);
+            surface::writeParticlesVdb(
+                options.outputDirectory / fmt::format("frame_{:05d}.vdb", frame), store);
         };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
@@ -168,13 +174,16 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--vdb-points", args->vdbPoints,
                   "Also write OpenVDB point caches frame_NNNNN.vdb (as output.vdb_points=true)");
     run->add_flag("--mesh", args->mesh,
-                  "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` has the options)");
+                  "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` "
+                  "has the options)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
-    run->add_flag("-r,--resume", args->resume,
-                  "Continue from the checkpoint in the output directory (same scene and --set overrides); "
-                  "the frames are bit-identical to an uninterrupted run");
-    run->add_option("--checkpoint-every", args->checkpointEvery,
-                    "Write a checkpoint every N frames, 0: off (default: output.checkpoint_every, 10)")
+    run->add_flag(
+        "-r,--resume", args->resume,
+        "Continue from the checkpoint in the output directory (same scene and --set overrides); "
+        "the frames are bit-identical to an uninterrupted run");
+    run->add_option(
+           "--checkpoint-every", args->checkpointEvery,
+           "Write a checkpoint every N frames, 0: off (default: output.checkpoint_every, 10)")
         ->check(CLI::Range(0, 1000000));
     run->add_option("--checkpoint-seconds", args->checkpointSeconds,
                     "Also write one after this many wall-clock seconds, 0: off "

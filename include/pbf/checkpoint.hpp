@@ -55,7 +55,7 @@ struct Checkpoint {
     std::string pbfVersion;
     int frame = 0;
     double time = 0.0;
-    ParticleStore particles;  // memory order; `predicted` is not stored
+    ParticleStore particles;             // memory order; `predicted` is not stored
     std::vector<EmitterState> emitters;  // one per emitter of the scene
     RunTotals totals;
 };

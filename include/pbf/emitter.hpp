@@ -22,7 +22,7 @@ struct EmitterState {
 };
 
 class Emitter {
-public:
+  public:
     Emitter(const EmitterDescription& description, const SimulationParams& params);
 
     // Emits the discs due in the substep [time, time + dt): one disc each
@@ -42,14 +42,14 @@ public:
         emitted_ = static_cast<std::size_t>(state.emitted);
     }
 
-private:
+  private:
     EmitterDescription description_;
     std::vector<Vec3> disc_;
     float particleRadius_;
     float spacing_;
     float restDensity_;
-    Aabb inside_;                 // the solver's collision box
-    double travelled_ = 0.0;      // stream length not yet emitted, m
+    Aabb inside_;             // the solver's collision box
+    double travelled_ = 0.0;  // stream length not yet emitted, m
     std::size_t emitted_ = 0;
 };
 

@@ -60,8 +60,8 @@ struct RunSummary {
     double maxDensityError = 0.0;      // over all frames
     double averageDensityError = 0.0;  // mean over frames of the per-frame average
     std::size_t maxEscaped = 0;        // over all frames; 0 in a correct run
-    std::size_t maxInsideSolid = 0;   // over all frames; 0 in a correct run
-    std::size_t skippedInSolids = 0;  // fluid-block sites left empty because a solid was there
+    std::size_t maxInsideSolid = 0;    // over all frames; 0 in a correct run
+    std::size_t skippedInSolids = 0;   // fluid-block sites left empty because a solid was there
     int resumedFromFrame = -1;         // frame of the checkpoint resumed from, -1 if none
     bool interrupted = false;          // stopRequested() ended the run early
     int lastFrame = 0;                 // last frame written

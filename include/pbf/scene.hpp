@@ -36,15 +36,15 @@ struct FluidBlock {
 struct SolidDescription {
     enum class Kind { Box, Sphere, Plane, Cylinder, Mesh };
     Kind kind = Kind::Box;
-    Aabb box;                      // box
-    Vec3 center;                   // sphere
-    float radius = 0.0f;           // sphere, cylinder
-    Vec3 point, normal{0, 1, 0};   // plane
-    Vec3 base, axis{0, 1, 0};      // cylinder
-    float height = 0.0f;           // cylinder
-    std::string file;              // mesh: path resolved against the scene file's folder
-    Transform transform;           // mesh
-    std::string field;             // "solids[2]", for messages
+    Aabb box;                     // box
+    Vec3 center;                  // sphere
+    float radius = 0.0f;          // sphere, cylinder
+    Vec3 point, normal{0, 1, 0};  // plane
+    Vec3 base, axis{0, 1, 0};     // cylinder
+    float height = 0.0f;          // cylinder
+    std::string file;             // mesh: path resolved against the scene file's folder
+    Transform transform;          // mesh
+    std::string field;            // "solids[2]", for messages
 };
 
 // A nozzle pouring water: discs of particles (lattice spacing 2 r, within
@@ -54,30 +54,30 @@ struct SolidDescription {
 struct EmitterDescription {
     Vec3 position;
     Vec3 direction{0, -1, 0};
-    float radius = 0.05f;      // m
-    float speed = 1.0f;        // m/s
-    float start = 0.0f;        // s
-    float end = 1e30f;         // s
+    float radius = 0.05f;          // m
+    float speed = 1.0f;            // m/s
+    float start = 0.0f;            // s
+    float end = 1e30f;             // s
     std::size_t maxParticles = 0;  // 0: no budget, only the time window
     std::string field;
 };
 
 struct OutputParams {
-    float fps = 30.0f;           // frames per simulated second, (0, 10000]
-    int frames = 90;             // frames to simulate, [1, 1e6]
-    std::string directory;       // default "out/<scene name>"
-    bool writeParticles = true;  // binary PLY per frame
-    bool writeVdbPoints = false; // OpenVDB points per frame (frame_NNNNN.vdb, pbf_surface)
+    float fps = 30.0f;            // frames per simulated second, (0, 10000]
+    int frames = 90;              // frames to simulate, [1, 1e6]
+    std::string directory;        // default "out/<scene name>"
+    bool writeParticles = true;   // binary PLY per frame
+    bool writeVdbPoints = false;  // OpenVDB points per frame (frame_NNNNN.vdb, pbf_surface)
     // Checkpoints for --resume (docs/reliability.md): one is written when
     // `checkpointEvery` frames or `checkpointSeconds` of wall time have passed
     // since the last one (0 turns that trigger off), and at the end of a run.
-    int checkpointEvery = 10;          // frames, [0, 1e6]
-    float checkpointSeconds = 60.0f;   // wall-clock seconds, [0, 1e6]
+    int checkpointEvery = 10;         // frames, [0, 1e6]
+    float checkpointSeconds = 60.0f;  // wall-clock seconds, [0, 1e6]
     // State guard (include/pbf/state_guard.hpp): the run stops when a particle
     // is faster than max_speed (m/s) or, when max_speed is 0, than
     // max_speed_factor times the free-fall speed over the domain diagonal.
-    float maxSpeed = 0.0f;             // m/s, [0, 1e6]; 0: automatic
-    float maxSpeedFactor = 10.0f;      // [1, 1e4]
+    float maxSpeed = 0.0f;         // m/s, [0, 1e6]; 0: automatic
+    float maxSpeedFactor = 10.0f;  // [1, 1e4]
 };
 
 struct Scene {

@@ -75,7 +75,7 @@ class Simulation {
     void restore(ParticleStore particles, int frame, double time,
                  const std::vector<EmitterState>& emitters = {});
 
-private:
+  private:
     void checkState(int substep, double time, const char* stage) const;
 
     Scene scene_;

@@ -26,7 +26,7 @@
 namespace pbf {
 
 class Solid {
-public:
+  public:
     virtual ~Solid() = default;
     // Signed distance from the surface (metres, negative inside) and the
     // outward unit normal (the normalised gradient of the distance).
@@ -38,7 +38,7 @@ public:
 
 // The solids of a scene. Queries return the nearest solid's distance.
 class SolidSet {
-public:
+  public:
     void add(std::unique_ptr<Solid> solid);
     bool empty() const { return solids_.empty(); }
     std::size_t size() const { return solids_.size(); }
@@ -48,7 +48,7 @@ public:
     // `reach` of p; returns `reach` (and leaves normal unset) if none does.
     float signedDistance(const Vec3& p, float reach, Vec3& normal) const;
 
-private:
+  private:
     std::vector<std::unique_ptr<Solid>> solids_;
     std::vector<Aabb> bounds_;
 };
@@ -67,7 +67,8 @@ std::unique_ptr<Solid> makeSphereSolid(const Vec3& center, float radius);
 // Half-space below the plane: solid where dot(p - point, normal) < 0.
 std::unique_ptr<Solid> makePlaneSolid(const Vec3& point, const Vec3& normal, const Aabb& domain);
 // Capped cylinder from `base` along `axis` (normalised inside) for `height`.
-std::unique_ptr<Solid> makeCylinderSolid(const Vec3& base, const Vec3& axis, float radius, float height);
+std::unique_ptr<Solid> makeCylinderSolid(const Vec3& base, const Vec3& axis, float radius,
+                                         float height);
 
 struct MeshSolidOptions {
     float voxelSize = 0.0f;  // metres; the level set's resolution
@@ -94,7 +95,7 @@ std::unique_ptr<Solid> loadMeshSolid(const std::filesystem::path& file, const Tr
                                      double maxVoxels = 2e8);
 
 class SolidError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 

@@ -73,7 +73,8 @@ struct StageTimes {
 class Solver {
   public:
     // `solids` (may be null) are static obstacles the particles collide with.
-    explicit Solver(const SimulationParams& params, std::shared_ptr<const SolidSet> solids = nullptr);
+    explicit Solver(const SimulationParams& params,
+                    std::shared_ptr<const SolidSet> solids = nullptr);
 
     const SimulationParams& params() const { return params_; }
     const SolverConstants& constants() const { return constants_; }
