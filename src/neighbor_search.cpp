@@ -99,42 +99,49 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     const float* py = positions.y.data();
     const float* pz = positions.z.data();
 
-    // Visits every j != i within the radius, in ascending index order.
-    auto forEachNeighbor = [&](std::size_t i, auto&& onNeighbor) {
-        const std::uint32_t c = sortedCell_[i];
-        const std::uint32_t cx = c % nx_;
-        const std::uint32_t cy = (c / nx_) % ny_;
-        const std::uint32_t cz = c / (nx_ * ny_);
-        const float xi = px[i], yi = py[i], zi = pz[i];
-        forEachStencilRange(cx, cy, cz, [&](std::uint32_t first, std::uint32_t last) {
-            for (std::uint32_t j = first; j < last; ++j) {
-                const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-                if (dx * dx + dy * dy + dz * dz < r2max && j != i) onNeighbor(j);
-            }
-        });
-    };
-
     // One distance pass: each block of particles appends its lists to its
     // own buffer (kept between steps), then the buffers are copied into the
-    // CSR array at offsets from a prefix sum over the counts.
+    // CSR array at offsets from a prefix sum over the counts. Each stencil row
+    // is tested branch-free (an index is always written, the cursor advances
+    // only for a neighbour): about one candidate in eight is a neighbour, so
+    // a branch per candidate would mispredict often.
     const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
     if (blockLists_.size() < blocks) blockLists_.resize(blocks);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
-        list.clear();
+        std::size_t used = 0;
         for (std::size_t i = begin; i < end; ++i) {
-            const std::size_t before = list.size();
-            forEachNeighbor(i, [&](std::uint32_t j) { list.push_back(j); });
-            counts_[i] = static_cast<std::uint32_t>(list.size() - before);
+            const std::uint32_t c = sortedCell_[i];
+            const std::uint32_t cx = c % nx_;
+            const std::uint32_t cy = (c / nx_) % ny_;
+            const std::uint32_t cz = c / (nx_ * ny_);
+            const float xi = px[i], yi = py[i], zi = pz[i];
+            const std::size_t before = used;
+            forEachStencilRange(cx, cy, cz, [&](std::uint32_t first, std::uint32_t last) {
+                // Room for every candidate of the row (grows rarely, amortised).
+                if (list.size() < used + (last - first))
+                    list.resize(2 * (used + (last - first)) + 1024);
+                std::uint32_t* out = list.data() + used;
+                std::size_t found = 0;
+                for (std::uint32_t j = first; j < last; ++j) {
+                    const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+                    out[found] = j;
+                    found +=
+                        static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < r2max) & (j != i));
+                }
+                used += found;
+            });
+            counts_[i] = static_cast<std::uint32_t>(used - before);
         }
     });
     offsets_[0] = 0;
     for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
     // Grows only when the total exceeds every earlier step's (amortised).
     if (indices_.size() < offsets_[n]) indices_.resize(offsets_[n] + offsets_[n] / 4);
-    detail::parallelFor(n, [&](std::size_t begin, std::size_t) {
+    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         const std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
-        std::copy(list.begin(), list.end(),
+        const std::size_t used = offsets_[end] - offsets_[begin];
+        std::copy(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(used),
                   indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[begin]));
     });
 }
