@@ -181,32 +181,16 @@ void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
                                const NeighborSearch& search, const Float3Array& predicted,
                                const float* lambda, Float3Array& delta, std::size_t begin,
                                std::size_t end) {
-    switch (c.scorrExponent) {
-        case 1:
-            return positionCorrectionRange<1>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 2:
-            return positionCorrectionRange<2>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 3:
-            return positionCorrectionRange<3>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 4:
-            return positionCorrectionRange<4>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 5:
-            return positionCorrectionRange<5>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 6:
-            return positionCorrectionRange<6>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        case 7:
-            return positionCorrectionRange<7>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-        default:
-            return positionCorrectionRange<8>(c, solids, search, predicted, lambda, delta, begin,
-                                              end);
-    }
+    // One instantiation per exponent allowed by validate() (n in [1, 8]).
+    using Range =
+        void (*)(const SolverConstants&, const SolidSet*, const NeighborSearch&, const Float3Array&,
+                 const float*, Float3Array&, std::size_t, std::size_t);
+    static constexpr Range kByExponent[] = {
+        &positionCorrectionRange<1>, &positionCorrectionRange<2>, &positionCorrectionRange<3>,
+        &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
+        &positionCorrectionRange<7>, &positionCorrectionRange<8>};
+    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](c, solids, search, predicted, lambda, delta,
+                                                       begin, end);
 }
 
 void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
