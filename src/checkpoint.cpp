@@ -38,6 +38,7 @@ class Writer {
     template <class T>
     void array(const std::vector<T>& values) {
         value<std::uint64_t>(values.size());
+        if (values.empty()) return;  // data() may be null
         bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
     }
     void string(const std::string& s) {
@@ -70,6 +71,7 @@ class Reader {
         if (n > (bytes_.size() - pos_) / sizeof(T))
             fail(name_, std::string("corrupt checkpoint: ") + what + " length");
         out.resize(static_cast<std::size_t>(n));
+        if (out.empty()) return;  // memcpy must not see the null data() of an empty vector
         std::memcpy(out.data(), bytes_.data() + pos_, out.size() * sizeof(T));
         pos_ += out.size() * sizeof(T);
     }
