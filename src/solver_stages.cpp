@@ -11,28 +11,6 @@ Vec3 clampToBox(const Aabb& box, const Vec3& p) {
             std::clamp(p.z, box.min.z, box.max.z)};
 }
 
-// Adds the walls of the domain box within reach of x: their kernel sum and
-// the gradient of that sum with respect to x (pointing into the walls).
-void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
-                         Vec3& gradient) {
-    const WallTable& w = c.wall;
-    auto add = [&](float distance, float Vec3::*axis, float outward) {
-        if (!(distance < w.range)) return;
-        const float t = std::max(distance, 0.0f) * w.inverseStep;
-        const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
-        const float f = t - float(k);
-        kernelSum += w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
-        gradient.*axis +=
-            outward * (w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]));
-    };
-    add(x.x - c.domain.min.x, &Vec3::x, -1.0f);
-    add(c.domain.max.x - x.x, &Vec3::x, 1.0f);
-    add(x.y - c.domain.min.y, &Vec3::y, -1.0f);
-    add(c.domain.max.y - x.y, &Vec3::y, 1.0f);
-    add(x.z - c.domain.min.z, &Vec3::z, -1.0f);
-    add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
-}
-
 // Linear interpolation in the flat-wall table at distance s.
 void sampleWallTable(const WallTable& w, float distance, float& kernel, float& gradient) {
     const float t = std::max(distance, 0.0f) * w.inverseStep;
@@ -40,6 +18,26 @@ void sampleWallTable(const WallTable& w, float distance, float& kernel, float& g
     const float f = t - float(k);
     kernel = w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
     gradient = w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]);
+}
+
+// Adds the walls of the domain box within reach of x: their kernel sum and
+// the gradient of that sum with respect to x (pointing into the walls).
+void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
+                         Vec3& gradient) {
+    const WallTable& w = c.wall;
+    auto add = [&](float distance, float Vec3::*axis, float outward) {
+        if (!(distance < w.range)) return;
+        float kernel = 0.0f, slope = 0.0f;
+        sampleWallTable(w, distance, kernel, slope);
+        kernelSum += kernel;
+        gradient.*axis += outward * slope;
+    };
+    add(x.x - c.domain.min.x, &Vec3::x, -1.0f);
+    add(c.domain.max.x - x.x, &Vec3::x, 1.0f);
+    add(x.y - c.domain.min.y, &Vec3::y, -1.0f);
+    add(c.domain.max.y - x.y, &Vec3::y, 1.0f);
+    add(x.z - c.domain.min.z, &Vec3::z, -1.0f);
+    add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
 }
 
 // The nearest solid within reach adds the flat-wall density at its signed
