@@ -84,12 +84,7 @@ FrameReport Simulation::advanceFrame() {
         const double stepStart = time_ + (frameDt - remaining);
         for (Emitter& emitter : emitters_) emitter.emit(stepStart, dt, particles_, solids_.get());
         solver_.step(particles_, static_cast<float>(dt));
-        const StageTimes& t = solver_.lastStageTimes();
-        report.stageMs.predict += t.predict;
-        report.stageMs.neighborSearch += t.neighborSearch;
-        report.stageMs.solve += t.solve;
-        report.stageMs.postProcess += t.postProcess;
-        report.stageMs.total += t.total;
+        report.stageMs += solver_.lastStageTimes();
         remaining -= dt;
         elapsed += dt;
         ++substeps;

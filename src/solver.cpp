@@ -133,17 +133,26 @@ void Solver::step(ParticleStore& p, float dt) {
 
     t = Clock::now();
     search_.sortByCell(p.predicted, perm_);
+    times_.gridBuild = millisecondsSince(t);
+    auto part = Clock::now();
     p.reorder(perm_);
+    times_.reorder = millisecondsSince(part);
+    part = Clock::now();
     search_.buildNeighborLists(p.predicted);
+    times_.neighborLists = millisecondsSince(part);
     times_.neighborSearch = millisecondsSince(t);
 
     t = Clock::now();
     float* density = p.density.data();
     float* lambda = lambda_.data();
+    times_.lambda = times_.deltaP = 0.0;
     for (int iteration = 0; iteration < params_.solver.iterations; ++iteration) {
+        part = Clock::now();
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::computeDensityAndLambda(c, solids, search_, p.predicted, density, lambda, b, e);
         });
+        times_.lambda += millisecondsSince(part);
+        part = Clock::now();
         // Correction and its application fused in one pass: the corrected
         // positions go to a second array, swapped in afterwards.
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
@@ -154,6 +163,7 @@ void Solver::step(ParticleStore& p, float dt) {
                 stages::resolveSolidCollisions(c, *solids, radius, p.position, corrected_, b, e);
         });
         std::swap(p.predicted, corrected_);
+        times_.deltaP += millisecondsSince(part);
     }
     times_.solve = millisecondsSince(t);
 
@@ -189,6 +199,35 @@ std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(float) * (lambda_.capacity() + 3 * delta_.x.capacity() +
                             3 * corrected_.x.capacity() + 3 * vorticity_.x.capacity());
+}
+
+StageTimes& StageTimes::operator+=(const StageTimes& o) {
+    predict += o.predict;
+    neighborSearch += o.neighborSearch;
+    solve += o.solve;
+    postProcess += o.postProcess;
+    total += o.total;
+    gridBuild += o.gridBuild;
+    reorder += o.reorder;
+    neighborLists += o.neighborLists;
+    lambda += o.lambda;
+    deltaP += o.deltaP;
+    return *this;
+}
+
+StageTimes StageTimes::operator*(double factor) const {
+    StageTimes r;
+    r.predict = predict * factor;
+    r.neighborSearch = neighborSearch * factor;
+    r.solve = solve * factor;
+    r.postProcess = postProcess * factor;
+    r.total = total * factor;
+    r.gridBuild = gridBuild * factor;
+    r.reorder = reorder * factor;
+    r.neighborLists = neighborLists * factor;
+    r.lambda = lambda * factor;
+    r.deltaP = deltaP * factor;
+    return r;
 }
 
 float maxSpeed(const ParticleStore& p) {

@@ -65,12 +65,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     result.particles = particles.size();
     for (int s = 0; s < args.steps; ++s) {
         solver.step(particles, dt);
-        const StageTimes& t = solver.lastStageTimes();
-        result.perStep.predict += t.predict / args.steps;
-        result.perStep.neighborSearch += t.neighborSearch / args.steps;
-        result.perStep.solve += t.solve / args.steps;
-        result.perStep.postProcess += t.postProcess / args.steps;
-        result.perStep.total += t.total / args.steps;
+        result.perStep += solver.lastStageTimes() * (1.0 / args.steps);
     }
     result.stepMs = result.perStep.total;
     const std::size_t stateBytes = particles.size() * (sizeof(float) * 11 + sizeof(std::uint32_t));
@@ -103,26 +98,28 @@ int runBench(const BenchArguments& args) {
     const Scene base = loadScene(args.scene);
     fmt::print("pbf bench: scene {}, {} iterations, {} timed steps after {} warm-up, {} threads\n",
                args.scene, args.iterations, args.steps, args.warmup, threadCount());
-    fmt::print("{:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>14} {:>8} {:>8}\n", "particles",
-               "step_ms", "predict", "neighbors", "solve", "post", "particle-st/s", "nbrs",
-               "B/part");
+    fmt::print("{:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>13} {:>6} {:>6}\n",
+               "particles", "step_ms", "predict", "grid", "reorder", "lists", "lambda", "delta-p",
+               "post", "particle-st/s", "nbrs", "B/part");
     std::vector<std::string> machineLines;
     for (const std::size_t size : args.sizes) {
         const BenchResult r = benchOneSize(base, size, args);
         const double rate = double(r.particles) / (r.stepMs * 1e-3);
+        const StageTimes& t = r.perStep;
         fmt::print(
-            "{:>10} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>10.2f} {:>14.3e} {:>8.1f} "
-            "{:>8.0f}\n",
-            r.particles, r.stepMs, r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
-            r.perStep.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
+            "{:>9} {:>9.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} "
+            "{:>13.3e} {:>6.1f} {:>6.0f}\n",
+            r.particles, r.stepMs, t.predict, t.gridBuild, t.reorder, t.neighborLists, t.lambda,
+            t.deltaP, t.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
         machineLines.push_back(
             fmt::format("pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
                         "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
-                        "solve_ms={:.3f} post_ms={:.3f} "
+                        "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
+                        "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} "
                         "bytes_per_particle={:.0f}",
                         r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate,
-                        r.perStep.predict, r.perStep.neighborSearch, r.perStep.solve,
-                        r.perStep.postProcess, r.bytesPerParticle));
+                        t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild,
+                        t.reorder, t.neighborLists, t.lambda, t.deltaP, r.bytesPerParticle));
     }
     for (const std::string& line : machineLines) fmt::print("{}\n", line);
     return 0;

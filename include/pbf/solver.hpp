@@ -68,6 +68,15 @@ struct StageTimes {
     double solve = 0.0;           // all density iterations
     double postProcess = 0.0;     // velocity update, vorticity, XSPH, wall response
     double total = 0.0;
+    // Parts of the above, for profiling (`pbf bench`).
+    double gridBuild = 0.0;      // cell of each particle + counting sort
+    double reorder = 0.0;        // permuting every particle array
+    double neighborLists = 0.0;  // distance tests, CSR lists
+    double lambda = 0.0;         // density + lambda passes, all iterations
+    double deltaP = 0.0;  // correction passes with their box / solid projection, all iterations
+
+    StageTimes& operator+=(const StageTimes& o);
+    StageTimes operator*(double factor) const;
 };
 
 class Solver {
