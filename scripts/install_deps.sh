@@ -9,7 +9,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
-  nlohmann-json3-dev libcli11-dev libfmt-dev
+  nlohmann-json3-dev libcli11-dev libfmt-dev libhwy-dev
   libopenvdb-dev libtbb-dev libtinyobjloader-dev libboost-iostreams-dev
   # pbf_render (PBF_BUILD_VIEWER): viewer, headless EGL rendering, images, video, viewer test
   libglfw3-dev libepoxy-dev libimgui-dev libglm-dev libstb-dev

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "parallel.hpp"
+#include "simd.hpp"
 
 namespace pbf {
 namespace {
@@ -137,7 +138,11 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     offsets_[0] = 0;
     for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
     // Grows only when the total exceeds every earlier step's (amortised).
-    if (indices_.size() < offsets_[n]) indices_.resize(offsets_[n] + offsets_[n] / 4);
+    // Slack past the end: SIMD loads of a list's last batch may over-read.
+    if (indices_.size() < offsets_[n] + simd::kMaxLanes)
+        indices_.resize(offsets_[n] + offsets_[n] / 4 + simd::kMaxLanes);
+    // ... and read past a list's end as particle indices: keep them valid.
+    std::fill_n(indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[n]), simd::kMaxLanes, 0u);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         const std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
         const std::size_t used = offsets_[end] - offsets_[begin];

@@ -103,10 +103,10 @@ void Solver::setParams(const SimulationParams& params) {
 }
 
 void Solver::ensureCapacity(std::size_t n) {
-    if (lambda_.size() == n) return;
-    lambda_.resize(n);
+    if (packed_.size() == n) return;
+    packed_.resize(n);
+    packedWithLambda_.resize(n);
     delta_.resize(n);
-    corrected_.resize(n);
     vorticity_.resize(n);
 }
 
@@ -144,27 +144,31 @@ void Solver::step(ParticleStore& p, float dt) {
 
     t = Clock::now();
     float* density = p.density.data();
-    float* lambda = lambda_.data();
+    PackedPoint* predicted = packed_.data();
+    PackedPoint* withLambda = packedWithLambda_.data();
+    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        stages::packPositions(p.predicted, predicted, b, e);
+    });
     times_.lambda = times_.deltaP = 0.0;
     for (int iteration = 0; iteration < params_.solver.iterations; ++iteration) {
         part = Clock::now();
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeDensityAndLambda(c, solids, search_, p.predicted, density, lambda, b, e);
+            stages::computeDensityAndLambda(c, solids, search_, predicted, density, withLambda, b,
+                                            e);
         });
         times_.lambda += millisecondsSince(part);
         part = Clock::now();
-        // Correction and its application fused in one pass: the corrected
-        // positions go to a second array, swapped in afterwards.
+        // Reads (x*, lambda) of the neighbours, writes the corrected x* over
+        // the previous iteration's: the next density pass reads it.
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computePositionCorrection(c, solids, search_, p.predicted, lambda, delta_, b,
-                                              e);
-            stages::applyPositionCorrection(box, delta_, p.predicted, corrected_, b, e);
-            if (solids)
-                stages::resolveSolidCollisions(c, *solids, radius, p.position, corrected_, b, e);
+            stages::correctPositions(c, solids, radius, search_, p.position, withLambda, predicted,
+                                     b, e);
         });
-        std::swap(p.predicted, corrected_);
         times_.deltaP += millisecondsSince(part);
     }
+    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        stages::unpackPositions(predicted, p.predicted, b, e);
+    });
     times_.solve = millisecondsSince(t);
 
     t = Clock::now();
@@ -174,10 +178,15 @@ void Solver::step(ParticleStore& p, float dt) {
         stages::updateVelocity(1.0f / dt, p.position, p.predicted, p.velocity, b, e);
     });
     if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
+        // x* is still packed in `predicted`; (v, rho) go to the other buffer.
+        PackedPoint* velocityDensity = withLambda;
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::packVelocityAndDensity(p.velocity, density, velocityDensity, b, e);
+        });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::computeVorticityAndViscosity(c, fluid.viscosity, fluid.vorticity > 0.0f,
-                                                 search_, p.predicted, p.velocity, density,
-                                                 vorticity_, delta_, b, e);
+                                                 search_, predicted, velocityDensity, vorticity_,
+                                                 delta_, b, e);
         });
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::applyVorticityAndViscosity(c, fluid.vorticity, dt, search_, p.predicted,
@@ -197,8 +206,8 @@ void Solver::step(ParticleStore& p, float dt) {
 
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
-           sizeof(float) * (lambda_.capacity() + 3 * delta_.x.capacity() +
-                            3 * corrected_.x.capacity() + 3 * vorticity_.x.capacity());
+           sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
+           sizeof(float) * (3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
 }
 
 StageTimes& StageTimes::operator+=(const StageTimes& o) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "simd.hpp"
+
 namespace pbf::stages {
 namespace {
 
@@ -66,48 +68,101 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
     }
 }
 
-// The neighbour loops below accumulate into scalars under `omp simd`
-// reductions so that the compiler vectorises them (gathering x_j). The
-// vectorised order of additions is fixed by the code and the neighbour count
-// alone, so results stay bit-identical across thread counts.
+// The neighbour loops below run on full SIMD vectors of neighbours
+// (simd.hpp): gather x_j, mask the lanes past the list's end and those
+// outside the kernel's support, accumulate per lane, one tree sum at the end.
+// Constant factors (the kernels' coefficients) are applied once per particle.
+
+namespace {
+
+using namespace simd;
+
+// Per-lane geometry of a batch of neighbours j of particle i.
+struct PairBatch {
+    IndexBatch j;
+    FloatVec dx, dy, dz;  // x_i - x_j
+    FloatVec w;           // the fourth float of j's packed record
+    FloatVec r2;
+    FloatMask inside;  // 0 < r < h and a real list entry
+    FloatVec inverseR;
+};
+
+struct PairConstants {
+    FloatVec h, h2, tiny;
+};
+
+PairConstants pairConstants(float h, float h2) {
+    const FloatTag d;
+    return {hn::Set(d, h), hn::Set(d, h2), hn::Set(d, 1e-30f)};
+}
+
+HWY_INLINE PairBatch loadPairs(const PairConstants& k, const PackedPoint* points, FloatVec xi,
+                               FloatVec yi, FloatVec zi, const std::uint32_t* list,
+                               std::size_t first, std::size_t count) {
+    const FloatTag d;
+    PairBatch b;
+    b.j = loadIndices(list, first, count);
+    const Gathered4 xj = gather4(&points[0].x, list + first, b.j.index);
+    b.dx = hn::Sub(xi, xj.x);
+    b.dy = hn::Sub(yi, xj.y);
+    b.dz = hn::Sub(zi, xj.z);
+    b.w = xj.w;
+    b.r2 = hn::MulAdd(b.dx, b.dx, hn::MulAdd(b.dy, b.dy, hn::Mul(b.dz, b.dz)));
+    // Neighbours are closer than h by construction, but x* moved since the
+    // lists were built: keep the kernels' support exact.
+    b.inside = hn::And(b.j.valid, hn::And(hn::Lt(b.r2, k.h2), hn::Gt(b.r2, hn::Zero(d))));
+    b.inverseR = reciprocalSqrt(hn::Max(b.r2, k.tiny));
+    return b;
+}
+
+// (h^2 - r^2)^3, zero outside the support: poly6 / its coefficient.
+HWY_INLINE FloatVec poly6Shape(const PairConstants& k, const PairBatch& b) {
+    const FloatVec d2 = hn::Sub(k.h2, b.r2);
+    return hn::IfThenElseZero(b.inside, hn::Mul(hn::Mul(d2, d2), d2));
+}
+
+// (h - r)^2 / r, zero outside the support: |grad spiky| / (r coefficient).
+// grad_i W_ij = spiky coefficient * this * (x_i - x_j).
+HWY_INLINE FloatVec spikyShapeOverR(const PairConstants& k, const PairBatch& b, FloatVec& squared) {
+    const FloatVec dd = hn::Sub(k.h, hn::Mul(b.r2, b.inverseR));
+    squared = hn::IfThenElseZero(b.inside, hn::Mul(dd, dd));
+    return hn::Mul(squared, b.inverseR);
+}
+
+}  // namespace
 
 void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search, const Float3Array& predicted,
-                             float* density, float* lambda, std::size_t begin, std::size_t end) {
+                             const NeighborSearch& search, const PackedPoint* predicted,
+                             float* density, PackedPoint* withLambda, std::size_t begin,
+                             std::size_t end) {
+    const FloatTag d;
+    const std::size_t lanes = hn::Lanes(d);
     const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
-    const float* px = predicted.x.data();
-    const float* py = predicted.y.data();
-    const float* pz = predicted.z.data();
-    const float h = c.h, h2 = c.poly6.h2;
-    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient * gradScale;
+    const PairConstants k = pairConstants(c.h, c.poly6.h2);
+    const float spiky = c.spiky.gradientCoefficient * gradScale;
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = px[i], yi = py[i], zi = pz[i];
+        const float xi = predicted[i].x, yi = predicted[i].y, zi = predicted[i].z;
+        const FloatVec vxi = hn::Set(d, xi), vyi = hn::Set(d, yi), vzi = hn::Set(d, zi);
         const std::span<const std::uint32_t> nbrs = search.neighbors(i);
-        const std::uint32_t* nb = nbrs.data();
-        const int count = static_cast<int>(nbrs.size());
-        float kernelSum = 0.0f, gx = 0.0f, gy = 0.0f, gz = 0.0f, gradSquaredSum = 0.0f;
-#pragma omp simd reduction(+ : kernelSum, gx, gy, gz, gradSquaredSum)
-        for (int k = 0; k < count; ++k) {
-            const std::uint32_t j = nb[k];
-            const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            const float r = std::sqrt(r2);
-            // Neighbours are closer than h by construction, but x* moved
-            // since the lists were built: keep the kernels' support exact.
-            const bool inside = r2 < h2 && r > 0.0f;
-            const float d2 = h2 - r2;
-            kernelSum += inside ? poly6 * d2 * d2 * d2 : 0.0f;
-            const float d = h - r;
-            const float g = inside ? spiky * d * d / r : 0.0f;  // grad C_i wrt x_j, scaled
-            gx += g * dx;
-            gy += g * dy;
-            gz += g * dz;
-            gradSquaredSum += g * g * r2;
+        FloatVec kernel = hn::Zero(d), gx = hn::Zero(d), gy = hn::Zero(d), gz = hn::Zero(d);
+        FloatVec gradSquared = hn::Zero(d);
+        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
+            const PairBatch b =
+                loadPairs(k, predicted, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
+            kernel = hn::Add(kernel, poly6Shape(k, b));
+            FloatVec dd2;
+            const FloatVec g = spikyShapeOverR(k, b, dd2);
+            gx = hn::MulAdd(g, b.dx, gx);
+            gy = hn::MulAdd(g, b.dy, gy);
+            gz = hn::MulAdd(g, b.dz, gz);
+            // |grad W|^2 = (coefficient (h - r)^2)^2: no division needed.
+            gradSquared = hn::MulAdd(dd2, dd2, gradSquared);
         }
-        kernelSum += c.poly6.value(0.0f);
+        float kernelSum = c.poly6.coefficient * sumOfLanes(kernel) + c.poly6.value(0.0f);
+        const float gradSquaredSum = spiky * spiky * sumOfLanes(gradSquared);
         // The walls are fixed: they add to rho_i and to grad_i C_i, but have
         // no gradient terms of their own.
-        Vec3 gradI{gx, gy, gz};
+        Vec3 gradI = Vec3{sumOfLanes(gx), sumOfLanes(gy), sumOfLanes(gz)} * spiky;
         Vec3 wallGradient{};
         addWallContribution(c, {xi, yi, zi}, kernelSum, wallGradient);
         addSolidContribution(c, solids, {xi, yi, zi}, kernelSum, wallGradient);
@@ -115,7 +170,9 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
         const float rho = c.particleMass * kernelSum;
         density[i] = rho;
         const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
-        lambda[i] = -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
+        const float lambdaI =
+            -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
+        withLambda[i] = {xi, yi, zi, lambdaI};
     }
 }
 
@@ -124,78 +181,82 @@ namespace {
 // The correction loop for a compile-time s_corr exponent: (W/W(dq))^n as
 // straight multiplications, so the loop has no call and vectorises.
 template <int Exponent>
-void positionCorrectionRange(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search, const Float3Array& predicted,
-                             const float* lambda, Float3Array& delta, std::size_t begin,
-                             std::size_t end) {
-    const float scale = c.particleMass * c.inverseRestDensity;
-    const float* px = predicted.x.data();
-    const float* py = predicted.y.data();
-    const float* pz = predicted.z.data();
-    const float h = c.h, h2 = c.poly6.h2;
-    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient;
-    const float scorrScale = c.scorrScale, inverseWdq = c.scorrInverseWdq;
+void positionCorrectionRange(const SolverConstants& c, const SolidSet* solids, float radius,
+                             const NeighborSearch& search, const Float3Array& start,
+                             const PackedPoint* withLambda, PackedPoint* corrected,
+                             std::size_t begin, std::size_t end) {
+    const FloatTag d;
+    const std::size_t lanes = hn::Lanes(d);
+    const float scale = c.particleMass * c.inverseRestDensity * c.spiky.gradientCoefficient;
+    const PairConstants k = pairConstants(c.h, c.poly6.h2);
+    const FloatVec ratioScale = hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq);
+    const FloatVec scorrScale = hn::Set(d, c.scorrScale);
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = px[i], yi = py[i], zi = pz[i];
-        const float lambdaI = lambda[i];
+        const Vec3 xi{withLambda[i].x, withLambda[i].y, withLambda[i].z};
+        const float lambdaI = withLambda[i].w;
+        const FloatVec vxi = hn::Set(d, xi.x), vyi = hn::Set(d, xi.y), vzi = hn::Set(d, xi.z);
+        const FloatVec vLambdaI = hn::Set(d, lambdaI);
         const std::span<const std::uint32_t> nbrs = search.neighbors(i);
-        const std::uint32_t* nb = nbrs.data();
-        const int count = static_cast<int>(nbrs.size());
-        float sx = 0.0f, sy = 0.0f, sz = 0.0f;
-#pragma omp simd reduction(+ : sx, sy, sz)
-        for (int k = 0; k < count; ++k) {
-            const std::uint32_t j = nb[k];
-            const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            const float r = std::sqrt(r2);
-            const bool inside = r2 < h2 && r > 0.0f;
-            const float d2 = h2 - r2;
+        FloatVec sx = hn::Zero(d), sy = hn::Zero(d), sz = hn::Zero(d);
+        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
+            const PairBatch b =
+                loadPairs(k, withLambda, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
             // Artificial pressure (eq. 13): a small repulsion that keeps
             // particles from clumping where the constraint is inactive.
-            const float ratio = (inside ? poly6 * d2 * d2 * d2 : 0.0f) * inverseWdq;
-            float power = ratio;
-            for (int e = 1; e < Exponent; ++e) power *= ratio;
-            const float d = h - r;
-            const float g = inside ? spiky * d * d / r : 0.0f;
-            const float weight = g * (lambdaI + lambda[j] + scorrScale * power);
-            sx += weight * dx;
-            sy += weight * dy;
-            sz += weight * dz;
+            const FloatVec ratio = hn::Mul(poly6Shape(k, b), ratioScale);
+            FloatVec power = ratio;
+            for (int e = 1; e < Exponent; ++e) power = hn::Mul(power, ratio);
+            FloatVec dd2;
+            const FloatVec g = spikyShapeOverR(k, b, dd2);
+            const FloatVec lambdaSum = hn::Add(vLambdaI, b.w);  // w holds lambda_j
+            const FloatVec weight = hn::Mul(g, hn::MulAdd(scorrScale, power, lambdaSum));
+            sx = hn::MulAdd(weight, b.dx, sx);
+            sy = hn::MulAdd(weight, b.dy, sy);
+            sz = hn::MulAdd(weight, b.dz, sz);
         }
+        Vec3 dp = Vec3{sumOfLanes(sx), sumOfLanes(sy), sumOfLanes(sz)} * scale;
         // The walls' share of grad_i C_i (they carry no lambda of their own).
-        Vec3 dp{sx, sy, sz};
         float unusedKernelSum = 0.0f;
         Vec3 wallGradient{};
-        addWallContribution(c, {xi, yi, zi}, unusedKernelSum, wallGradient);
-        addSolidContribution(c, solids, {xi, yi, zi}, unusedKernelSum, wallGradient);
-        dp += wallGradient * lambdaI;
-        delta.set(i, dp * scale);
+        addWallContribution(c, xi, unusedKernelSum, wallGradient);
+        addSolidContribution(c, solids, xi, unusedKernelSum, wallGradient);
+        dp += wallGradient * (lambdaI * c.particleMass * c.inverseRestDensity);
+        // x* + dp, projected into the collision box and out of the solids
+        // (Alg. 1 l. 16-18).
+        Vec3 x = clampToBox(c.collisionBox, xi + dp);
+        if (solids) x = resolveSolidCollision(c, *solids, radius, start.get(i), x);
+        corrected[i] = {x.x, x.y, x.z, 0.0f};
     }
 }
 
 }  // namespace
 
-void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
-                               const NeighborSearch& search, const Float3Array& predicted,
-                               const float* lambda, Float3Array& delta, std::size_t begin,
-                               std::size_t end) {
+void correctPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+                      const NeighborSearch& search, const Float3Array& start,
+                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
+                      std::size_t end) {
     // One instantiation per exponent allowed by validate() (n in [1, 8]).
     using Range =
-        void (*)(const SolverConstants&, const SolidSet*, const NeighborSearch&, const Float3Array&,
-                 const float*, Float3Array&, std::size_t, std::size_t);
+        void (*)(const SolverConstants&, const SolidSet*, float, const NeighborSearch&,
+                 const Float3Array&, const PackedPoint*, PackedPoint*, std::size_t, std::size_t);
     static constexpr Range kByExponent[] = {
         &positionCorrectionRange<1>, &positionCorrectionRange<2>, &positionCorrectionRange<3>,
         &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
         &positionCorrectionRange<7>, &positionCorrectionRange<8>};
-    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](c, solids, search, predicted, lambda, delta,
-                                                       begin, end);
+    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](c, solids, radius, search, start, withLambda,
+                                                       corrected, begin, end);
 }
 
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
-                             const Float3Array& predicted, Float3Array& corrected,
-                             std::size_t begin, std::size_t end) {
+void packPositions(const Float3Array& predicted, PackedPoint* packed, std::size_t begin,
+                   std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-        corrected.set(i, clampToBox(box, predicted.get(i) + delta.get(i)));
+        packed[i] = {predicted.x[i], predicted.y[i], predicted.z[i], 0.0f};
+}
+
+void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::size_t begin,
+                     std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        predicted.set(i, {packed[i].x, packed[i].y, packed[i].z});
 }
 
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
@@ -204,67 +265,57 @@ void updateVelocity(float inverseDt, const Float3Array& position, const Float3Ar
         velocity.set(i, (predicted.get(i) - position.get(i)) * inverseDt);
 }
 
+void packVelocityAndDensity(const Float3Array& velocity, const float* density, PackedPoint* packed,
+                            std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        packed[i] = {velocity.x[i], velocity.y[i], velocity.z[i], density[i]};
+}
+
 void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
-                                  const NeighborSearch& search, const Float3Array& predicted,
-                                  const Float3Array& velocity, const float* density,
-                                  Float3Array& vorticity, Float3Array& viscosityDelta,
-                                  std::size_t begin, std::size_t end) {
-    const float* px = predicted.x.data();
-    const float* py = predicted.y.data();
-    const float* pz = predicted.z.data();
-    const float* vx = velocity.x.data();
-    const float* vy = velocity.y.data();
-    const float* vz = velocity.z.data();
-    const float h = c.h, h2 = c.poly6.h2, mass = c.particleMass;
-    const float poly6 = c.poly6.coefficient, spiky = c.spiky.gradientCoefficient;
+                                  const NeighborSearch& search, const PackedPoint* predicted,
+                                  const PackedPoint* velocityDensity, Float3Array& vorticity,
+                                  Float3Array& viscosityDelta, std::size_t begin, std::size_t end) {
+    const FloatTag d;
+    const std::size_t lanes = hn::Lanes(d);
+    const PairConstants k = pairConstants(c.h, c.poly6.h2);
+    const float mass = c.particleMass;
+    const FloatVec one = hn::Set(d, 1.0f);
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = px[i], yi = py[i], zi = pz[i];
-        const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-        const float rhoI = density[i];
+        const PackedPoint& x = predicted[i];
+        const PackedPoint& v = velocityDensity[i];
+        const FloatVec vxi = hn::Set(d, x.x), vyi = hn::Set(d, x.y), vzi = hn::Set(d, x.z);
+        const FloatVec uxi = hn::Set(d, v.x), uyi = hn::Set(d, v.y), uzi = hn::Set(d, v.z);
+        const FloatVec rhoI = hn::Set(d, v.w);
         const std::span<const std::uint32_t> nbrs = search.neighbors(i);
-        const std::uint32_t* nb = nbrs.data();
-        const int count = static_cast<int>(nbrs.size());
-        float dvx = 0.0f, dvy = 0.0f, dvz = 0.0f;
-        float ox = 0.0f, oy = 0.0f, oz = 0.0f;
-        if (withVorticity) {
-#pragma omp simd reduction(+ : dvx, dvy, dvz, ox, oy, oz)
-            for (int k = 0; k < count; ++k) {
-                const std::uint32_t j = nb[k];
-                const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-                const float r2 = dx * dx + dy * dy + dz * dz;
-                const float r = std::sqrt(r2);
-                const bool inside = r2 < h2 && r > 0.0f;
-                const float wx = vx[j] - vxi, wy = vy[j] - vyi, wz = vz[j] - vzi;
-                const float d2 = h2 - r2;
-                const float w = inside ? poly6 * d2 * d2 * d2 : 0.0f;
-                const float xsph = 2.0f * mass / (rhoI + density[j]) * w;
-                dvx += wx * xsph;
-                dvy += wy * xsph;
-                dvz += wz * xsph;
+        FloatVec dvx = hn::Zero(d), dvy = hn::Zero(d), dvz = hn::Zero(d);
+        FloatVec ox = hn::Zero(d), oy = hn::Zero(d), oz = hn::Zero(d);
+        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
+            const PairBatch b =
+                loadPairs(k, predicted, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
+            const Gathered4 vj = gather4(&velocityDensity[0].x, nbrs.data() + first, b.j.index);
+            const FloatVec wx = hn::Sub(vj.x, uxi), wy = hn::Sub(vj.y, uyi),
+                           wz = hn::Sub(vj.z, uzi);
+            const FloatVec rhoJ = vj.w;
+            // XSPH with the symmetric volume 2 m / (rho_i + rho_j): pairwise
+            // equal and opposite, so momentum is conserved.
+            const FloatVec xsph = hn::Div(poly6Shape(k, b), hn::Add(rhoI, rhoJ));
+            dvx = hn::MulAdd(wx, xsph, dvx);
+            dvy = hn::MulAdd(wy, xsph, dvy);
+            dvz = hn::MulAdd(wz, xsph, dvz);
+            if (withVorticity) {
                 // omega_i += V_j grad_i W_ij x (v_j - v_i)
-                const float d = h - r;
-                const float g = inside ? spiky * d * d / r * (mass / density[j]) : 0.0f;
-                const float gx = g * dx, gy = g * dy, gz = g * dz;
-                ox += gy * wz - gz * wy;
-                oy += gz * wx - gx * wz;
-                oz += gx * wy - gy * wx;
-            }
-        } else {
-#pragma omp simd reduction(+ : dvx, dvy, dvz)
-            for (int k = 0; k < count; ++k) {
-                const std::uint32_t j = nb[k];
-                const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-                const float r2 = dx * dx + dy * dy + dz * dz;
-                const float d2 = h2 - r2;
-                const float w = r2 < h2 ? poly6 * d2 * d2 * d2 : 0.0f;
-                const float xsph = 2.0f * mass / (rhoI + density[j]) * w;
-                dvx += (vx[j] - vxi) * xsph;
-                dvy += (vy[j] - vyi) * xsph;
-                dvz += (vz[j] - vzi) * xsph;
+                FloatVec dd2;
+                const FloatVec g = hn::Mul(spikyShapeOverR(k, b, dd2), hn::Div(one, rhoJ));
+                const FloatVec gx = hn::Mul(g, b.dx), gy = hn::Mul(g, b.dy), gz = hn::Mul(g, b.dz);
+                ox = hn::Add(ox, hn::Sub(hn::Mul(gy, wz), hn::Mul(gz, wy)));
+                oy = hn::Add(oy, hn::Sub(hn::Mul(gz, wx), hn::Mul(gx, wz)));
+                oz = hn::Add(oz, hn::Sub(hn::Mul(gx, wy), hn::Mul(gy, wx)));
             }
         }
-        vorticity.set(i, {ox, oy, oz});
-        viscosityDelta.set(i, Vec3{dvx, dvy, dvz} * viscosity);
+        const float xsphScale = 2.0f * mass * c.poly6.coefficient * viscosity;
+        const float vorticityScale = c.spiky.gradientCoefficient * mass;
+        vorticity.set(i, Vec3{sumOfLanes(ox), sumOfLanes(oy), sumOfLanes(oz)} * vorticityScale);
+        viscosityDelta.set(i, Vec3{sumOfLanes(dvx), sumOfLanes(dvy), sumOfLanes(dvz)} * xsphScale);
     }
 }
 
@@ -328,43 +379,46 @@ void respondToWalls(const Aabb& box, float restitution, float friction,
     }
 }
 
+Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, float radius,
+                           const Vec3& start, Vec3 x) {
+    const float reach = c.h;
+    const float hitDistance = 0.05f * radius;
+    Vec3 normal;
+    const Vec3 move = x - start;
+    const float moveLength = length(move);
+    // Sweep: sphere-trace from the start; the distance field guarantees no
+    // surface closer than d, so each step of length d is safe.
+    const float startDistance = solids.signedDistance(start, moveLength + reach, normal);
+    if (startDistance < moveLength && moveLength > 0.0f) {
+        const Vec3 direction = move * (1.0f / moveLength);
+        float travelled = std::max(startDistance, 0.0f);
+        bool hit = startDistance <= hitDistance;
+        for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
+            const float d =
+                solids.signedDistance(start + direction * travelled, moveLength + reach, normal);
+            if (d <= hitDistance) {
+                hit = true;
+                break;
+            }
+            travelled += d;
+        }
+        if (hit) x = start + direction * std::min(travelled, moveLength);
+    }
+    // Push out to one radius (twice: a corner between two solids).
+    for (int pass = 0; pass < 2; ++pass) {
+        const float d = solids.signedDistance(x, reach, normal);
+        if (!(d < radius)) break;
+        x += normal * (radius - d);
+    }
+    return clampToBox(c.collisionBox, x);
+}
+
 void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
                             const Float3Array& position, Float3Array& predicted, std::size_t begin,
                             std::size_t end) {
-    const float reach = c.h;
-    const float hitDistance = 0.05f * radius;
-    for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 start = position.get(i);
-        Vec3 x = predicted.get(i);
-        Vec3 normal;
-        const Vec3 move = x - start;
-        const float moveLength = length(move);
-        // Sweep: sphere-trace from the start; the distance field guarantees no
-        // surface closer than d, so each step of length d is safe.
-        float startDistance = solids.signedDistance(start, moveLength + reach, normal);
-        if (startDistance < moveLength && moveLength > 0.0f) {
-            const Vec3 direction = move * (1.0f / moveLength);
-            float travelled = std::max(startDistance, 0.0f);
-            bool hit = startDistance <= hitDistance;
-            for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
-                const float d = solids.signedDistance(start + direction * travelled,
-                                                      moveLength + reach, normal);
-                if (d <= hitDistance) {
-                    hit = true;
-                    break;
-                }
-                travelled += d;
-            }
-            if (hit) x = start + direction * std::min(travelled, moveLength);
-        }
-        // Push out to one radius (twice: a corner between two solids).
-        for (int pass = 0; pass < 2; ++pass) {
-            const float d = solids.signedDistance(x, reach, normal);
-            if (!(d < radius)) break;
-            x += normal * (radius - d);
-        }
-        predicted.set(i, clampToBox(c.collisionBox, x));
-    }
+    for (std::size_t i = begin; i < end; ++i)
+        predicted.set(i,
+                      resolveSolidCollision(c, solids, radius, position.get(i), predicted.get(i)));
 }
 
 void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,

@@ -18,25 +18,30 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
                       Float3Array& velocity, Float3Array& predicted, std::size_t begin,
                       std::size_t end);
 
+// x* as packed records for the iterations, and back.
+void packPositions(const Float3Array& predicted, PackedPoint* packed, std::size_t begin,
+                   std::size_t end);
+void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::size_t begin,
+                     std::size_t end);
+
 // Paper eq. 1-2 and 11: density rho_i (poly6) and the Lagrange multiplier
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), with C_i = max(rho_i/rho0 - 1, 0)
 // so that particles at a free surface (missing neighbours) are never pulled in.
+// Writes x*_i with lambda_i in w to `withLambda` (the next pass reads both).
 void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search, const Float3Array& predicted,
-                             float* density, float* lambda, std::size_t begin, std::size_t end);
+                             const NeighborSearch& search, const PackedPoint* predicted,
+                             float* density, PackedPoint* withLambda, std::size_t begin,
+                             std::size_t end);
 
-// Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij.
-void computePositionCorrection(const SolverConstants& c, const SolidSet* solids,
-                               const NeighborSearch& search, const Float3Array& predicted,
-                               const float* lambda, Float3Array& delta, std::size_t begin,
-                               std::size_t end);
-
-// corrected = x* + dp, projected into the collision box (Alg. 1 l. 16-18).
-// Written to a second array so that it can run in the same pass as the
-// correction itself (other blocks still read x*).
-void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
-                             const Float3Array& predicted, Float3Array& corrected,
-                             std::size_t begin, std::size_t end);
+// Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij,
+// then x*_i + dp_i projected into the collision box and out of the solids
+// (Alg. 1 l. 16-18), written to `corrected` (Jacobi: neighbours read
+// `withLambda`). `start` (x at the start of the step) is where the sweep
+// against solids begins.
+void correctPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+                      const NeighborSearch& search, const Float3Array& start,
+                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
+                      std::size_t end);
 
 // Keeps x* at least one particle radius outside every solid. The move from x
 // (outside, the start of the step) to x* is swept by sphere tracing the
@@ -46,6 +51,9 @@ void applyPositionCorrection(const Aabb& box, const Float3Array& delta,
 void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
                             const Float3Array& position, Float3Array& predicted, std::size_t begin,
                             std::size_t end);
+// The same for one particle moving from `start` to `x`; returns the new x.
+Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, float radius,
+                           const Vec3& start, Vec3 x);
 
 // Restitution and friction against solids, as respondToWalls for the box.
 void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
@@ -56,14 +64,17 @@ void respondToSolids(const SolidSet& solids, float radius, float restitution, fl
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
                     Float3Array& velocity, std::size_t begin, std::size_t end);
 
+// v_i and rho_i as packed records for the post-process's neighbour loop.
+void packVelocityAndDensity(const Float3Array& velocity, const float* density, PackedPoint* packed,
+                            std::size_t begin, std::size_t end);
+
 // Curl omega_i = sum_j V_j grad_i W_ij x (v_j - v_i) (paper eq. 15) and the
 // XSPH increment dv_i = c sum_j 2m/(rho_i + rho_j) (v_j - v_i) W_ij (eq. 17,
 // with the symmetric volume so that momentum is conserved).
 void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
-                                  const NeighborSearch& search, const Float3Array& predicted,
-                                  const Float3Array& velocity, const float* density,
-                                  Float3Array& vorticity, Float3Array& viscosityDelta,
-                                  std::size_t begin, std::size_t end);
+                                  const NeighborSearch& search, const PackedPoint* predicted,
+                                  const PackedPoint* velocityDensity, Float3Array& vorticity,
+                                  Float3Array& viscosityDelta, std::size_t begin, std::size_t end);
 
 // Vorticity confinement (eq. 16): N = eta/|eta|, eta = grad |omega|, and
 // a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i and the XSPH increment.

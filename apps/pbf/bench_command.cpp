@@ -118,8 +118,8 @@ int runBench(const BenchArguments& args) {
                         "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} "
                         "bytes_per_particle={:.0f}",
                         r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate,
-                        t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild,
-                        t.reorder, t.neighborLists, t.lambda, t.deltaP, r.bytesPerParticle));
+                        t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder,
+                        t.neighborLists, t.lambda, t.deltaP, r.bytesPerParticle));
     }
     for (const std::string& line : machineLines) fmt::print("{}\n", line);
     return 0;

@@ -61,6 +61,12 @@ struct SolverConstants {
     static SolverConstants from(const SimulationParams& params);
 };
 
+// Four floats of one particle (x* and lambda, or v and rho), 16-byte aligned
+// so that the SIMD neighbour loops load a neighbour's record whole.
+struct alignas(16) PackedPoint {
+    float x = 0.0f, y = 0.0f, z = 0.0f, w = 0.0f;
+};
+
 // Wall-clock milliseconds spent per stage in the last step.
 struct StageTimes {
     double predict = 0.0;         // includes the swept collision with solids
@@ -111,9 +117,11 @@ class Solver {
 
     // Scratch owned by the solver: sized once per particle count, reused every step.
     std::vector<std::uint32_t> perm_;
-    std::vector<float> lambda_;
-    Float3Array delta_;      // position corrections; later velocity increments
-    Float3Array corrected_;  // x* + dp of the current iteration, swapped into x*
+    // The iterations alternate between these (Jacobi): x* -> (x*, lambda) ->
+    // corrected x*. The post-process reuses them for x* and (v, rho).
+    std::vector<PackedPoint> packed_;
+    std::vector<PackedPoint> packedWithLambda_;
+    Float3Array delta_;      // velocity increments (XSPH)
     Float3Array vorticity_;  // omega_i
 };
 
