@@ -75,8 +75,10 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
 }
 
 template <class Visit>
-void NeighborSearch::forEachStencilRange(std::uint32_t cx, std::uint32_t cy, std::uint32_t cz,
-                                         Visit&& visit) const {
+void NeighborSearch::forEachStencilRange(std::uint32_t cell, Visit&& visit) const {
+    const std::uint32_t cx = cell % nx_;
+    const std::uint32_t cy = (cell / nx_) % ny_;
+    const std::uint32_t cz = cell / (nx_ * ny_);
     const std::uint32_t x0 = cx > 0 ? cx - 1 : 0;
     const std::uint32_t x1 = std::min(cx + 1, nx_ - 1);
     const std::uint32_t z0 = cz > 0 ? cz - 1 : 0;
@@ -92,63 +94,82 @@ void NeighborSearch::forEachStencilRange(std::uint32_t cx, std::uint32_t cy, std
 }
 
 void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
+    static_assert(kListBlockSize == detail::kBlockSize, "lists are built per parallelFor block");
     const std::size_t n = positions.size();
-    counts_.resize(n);
-    offsets_.resize(n + 1);
-    const float r2max = radius_ * radius_;
+    listStart_.resize(n);
+    listCount_.resize(n);
+    const std::size_t blocks = (n + kListBlockSize - 1) / kListBlockSize;
+    if (blockLists_.size() < blocks) blockLists_.resize(blocks);
+    blockUsed_.assign(blocks, 0);
+
+    // Each block of particles writes its lists into its own buffer, kept
+    // between steps; the lists stay there (no copy into one array). Each
+    // stencil row is a contiguous candidate range, tested a SIMD vector at a
+    // time; the indices of the candidates closer than h are compressed into
+    // the list in index order (the same order as a scalar loop).
+    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
+        const std::size_t block = begin / kListBlockSize;
+        std::vector<std::uint32_t>& list = blockLists_[block];
+        std::size_t used = 0;
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::size_t before = used;
+            forEachStencilRange(sortedCell_[i], [&](std::uint32_t first, std::uint32_t last) {
+                // Room for every candidate of the row and a vector's overhang
+                // (grows rarely, amortised).
+                const std::size_t needed = used + (last - first) + simd::kMaxLanes;
+                if (list.size() < needed) list.resize(needed + needed / 4 + 1024);
+                used += collectRow(positions, i, first, last, list.data() + used);
+            });
+            listStart_[i] = static_cast<std::uint32_t>(before);
+            listCount_[i] = static_cast<std::uint32_t>(used - before);
+        }
+        // Slack past the last list: SIMD loads of a list's last batch read
+        // it as particle indices, so keep them valid.
+        std::fill_n(list.begin() + static_cast<std::ptrdiff_t>(used), simd::kMaxLanes, 0u);
+        blockUsed_[block] = used;
+    });
+    totalNeighbors_ = 0;
+    for (std::size_t b = 0; b < blocks; ++b) totalNeighbors_ += blockUsed_[b];
+}
+
+std::size_t NeighborSearch::collectRow(const Float3Array& positions, std::size_t i,
+                                       std::uint32_t first, std::uint32_t last,
+                                       std::uint32_t* out) const {
+    namespace hn = simd::hn;
+    const simd::FloatTag d;
+    const simd::IntTag di;
+    const std::size_t lanes = hn::Lanes(d);
+    const std::size_t n = positions.size();
     const float* px = positions.x.data();
     const float* py = positions.y.data();
     const float* pz = positions.z.data();
-
-    // One distance pass: each block of particles appends its lists to its
-    // own buffer (kept between steps), then the buffers are copied into the
-    // CSR array at offsets from a prefix sum over the counts. Each stencil row
-    // is tested branch-free (an index is always written, the cursor advances
-    // only for a neighbour): about one candidate in eight is a neighbour, so
-    // a branch per candidate would mispredict often.
-    const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
-    if (blockLists_.size() < blocks) blockLists_.resize(blocks);
-    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
-        std::size_t used = 0;
-        for (std::size_t i = begin; i < end; ++i) {
-            const std::uint32_t c = sortedCell_[i];
-            const std::uint32_t cx = c % nx_;
-            const std::uint32_t cy = (c / nx_) % ny_;
-            const std::uint32_t cz = c / (nx_ * ny_);
-            const float xi = px[i], yi = py[i], zi = pz[i];
-            const std::size_t before = used;
-            forEachStencilRange(cx, cy, cz, [&](std::uint32_t first, std::uint32_t last) {
-                // Room for every candidate of the row (grows rarely, amortised).
-                if (list.size() < used + (last - first))
-                    list.resize(2 * (used + (last - first)) + 1024);
-                std::uint32_t* out = list.data() + used;
-                std::size_t found = 0;
-                for (std::uint32_t j = first; j < last; ++j) {
-                    const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-                    out[found] = j;
-                    found +=
-                        static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < r2max) & (j != i));
-                }
-                used += found;
-            });
-            counts_[i] = static_cast<std::uint32_t>(used - before);
-        }
-    });
-    offsets_[0] = 0;
-    for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
-    // Grows only when the total exceeds every earlier step's (amortised).
-    // Slack past the end: SIMD loads of a list's last batch may over-read.
-    if (indices_.size() < offsets_[n] + simd::kMaxLanes)
-        indices_.resize(offsets_[n] + offsets_[n] / 4 + simd::kMaxLanes);
-    // ... and read past a list's end as particle indices: keep them valid.
-    std::fill_n(indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[n]), simd::kMaxLanes, 0u);
-    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        const std::vector<std::uint32_t>& list = blockLists_[begin / detail::kBlockSize];
-        const std::size_t used = offsets_[end] - offsets_[begin];
-        std::copy(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(used),
-                  indices_.begin() + static_cast<std::ptrdiff_t>(offsets_[begin]));
-    });
+    const float xi = px[i], yi = py[i], zi = pz[i];
+    const float r2max = radius_ * radius_;
+    const simd::FloatVec vxi = hn::Set(d, xi), vyi = hn::Set(d, yi), vzi = hn::Set(d, zi);
+    const simd::FloatVec vr2max = hn::Set(d, r2max);
+    const simd::IntVec self = hn::Set(di, static_cast<std::int32_t>(i));
+    std::size_t found = 0;
+    std::uint32_t j = first;
+    // Full vectors while they stay inside the arrays (lanes past `last` are
+    // masked off; reading them is harmless).
+    for (; j < last && j + lanes <= n; j += static_cast<std::uint32_t>(lanes)) {
+        const simd::FloatVec dx = hn::Sub(vxi, hn::LoadU(d, px + j));
+        const simd::FloatVec dy = hn::Sub(vyi, hn::LoadU(d, py + j));
+        const simd::FloatVec dz = hn::Sub(vzi, hn::LoadU(d, pz + j));
+        const simd::FloatVec r2 = hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dz, dz)));
+        const simd::FloatMask close = hn::And(hn::FirstN(d, last - j), hn::Lt(r2, vr2max));
+        const simd::IntVec index = hn::Iota(di, static_cast<std::int32_t>(j));
+        const auto take = hn::AndNot(hn::Eq(index, self), hn::RebindMask(di, close));
+        hn::StoreU(hn::Compress(index, take), di, reinterpret_cast<std::int32_t*>(out + found));
+        found += hn::CountTrue(di, take);
+    }
+    // The array's last few particles, one at a time, branch-free.
+    for (; j < last; ++j) {
+        const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
+        out[found] = j;
+        found += static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < r2max) & (j != i));
+    }
+    return found;
 }
 
 std::size_t NeighborSearch::memoryBytes() const {
@@ -157,8 +178,8 @@ std::size_t NeighborSearch::memoryBytes() const {
     return blockBytes +
            sizeof(std::uint32_t) *
                (cellOfParticle_.capacity() + cellStart_.capacity() + cellCursor_.capacity() +
-                sortedCell_.capacity() + counts_.capacity() + indices_.capacity()) +
-           sizeof(std::size_t) * offsets_.capacity();
+                sortedCell_.capacity() + listStart_.capacity() + listCount_.capacity()) +
+           sizeof(std::size_t) * blockUsed_.capacity();
 }
 
 }  // namespace pbf

@@ -5,8 +5,8 @@
 // with ParticleStore::reorder. After the reorder the particles of cell c are
 // the contiguous range [cellStart(c), cellStart(c + 1)), and
 // `buildNeighborLists` collects, for every particle, the indices of all
-// others closer than h into a compact CSR list that all solver iterations
-// reuse. Cells along x are adjacent in memory, so the 27-cell stencil is
+// others closer than h (SIMD distance tests) into per-block lists that all
+// solver iterations reuse. Cells along x are adjacent in memory, so the 27-cell stencil is
 // read as 9 contiguous ranges.
 //
 // Positions outside the grid are clamped to its border cells. Clamping is
@@ -47,18 +47,27 @@ class NeighborSearch {
     // Builds neighbour lists from positions already ordered by sortByCell.
     void buildNeighborLists(const Float3Array& positions);
 
+    // Indices of the particles closer than h to particle i, in increasing
+    // order. The entries after the list are readable (SIMD over-reads).
     std::span<const std::uint32_t> neighbors(std::size_t i) const {
-        return {indices_.data() + offsets_[i], indices_.data() + offsets_[i + 1]};
+        return {blockLists_[i / kListBlockSize].data() + listStart_[i], listCount_[i]};
     }
-    std::size_t totalNeighborCount() const { return offsets_.empty() ? 0 : offsets_.back(); }
+    std::size_t totalNeighborCount() const { return totalNeighbors_; }
     // Bytes held by the grid and neighbour lists (for the benchmark's report).
     std::size_t memoryBytes() const;
 
   private:
+    // Particles per list buffer: the blocks of the parallel loops.
+    static constexpr std::size_t kListBlockSize = 1024;
+
     // Cell range [first, last) of the 9 x-rows of the 27-cell stencil around `cell`.
     template <class Visit>
-    void forEachStencilRange(std::uint32_t cx, std::uint32_t cy, std::uint32_t cz,
-                             Visit&& visit) const;
+    void forEachStencilRange(std::uint32_t cell, Visit&& visit) const;
+    // Appends to `out` the particles of [first, last) closer than h to i
+    // (not i); returns their number. `out` has room for last - first plus
+    // one SIMD vector.
+    std::size_t collectRow(const Float3Array& positions, std::size_t i, std::uint32_t first,
+                           std::uint32_t last, std::uint32_t* out) const;
     std::uint32_t cellCoord(float value, float origin, std::uint32_t count) const;
 
     Aabb domain_;
@@ -67,14 +76,17 @@ class NeighborSearch {
     std::uint32_t nx_, ny_, nz_;
     std::size_t cellCount_;
 
-    std::vector<std::uint32_t> cellOfParticle_;           // cell of each particle, pre-sort order
-    std::vector<std::uint32_t> cellStart_;                // size cellCount + 1
-    std::vector<std::uint32_t> cellCursor_;               // counting-sort scratch
-    std::vector<std::uint32_t> sortedCell_;               // cell of each particle, sorted order
-    std::vector<std::uint32_t> counts_;                   // neighbours per particle
-    std::vector<std::size_t> offsets_;                    // CSR offsets, size n + 1
-    std::vector<std::uint32_t> indices_;                  // CSR neighbour indices
-    std::vector<std::vector<std::uint32_t>> blockLists_;  // per-block lists before the CSR copy
+    std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
+    std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
+    std::vector<std::uint32_t> cellCursor_;      // counting-sort scratch
+    std::vector<std::uint32_t> sortedCell_;      // cell of each particle, sorted order
+    // Neighbour lists: those of block b's particles lie one after the other
+    // in blockLists_[b]; particle i's starts at listStart_[i].
+    std::vector<std::vector<std::uint32_t>> blockLists_;
+    std::vector<std::uint32_t> listStart_;
+    std::vector<std::uint32_t> listCount_;
+    std::vector<std::size_t> blockUsed_;  // entries used in each block's buffer
+    std::size_t totalNeighbors_ = 0;
 };
 
 }  // namespace pbf
