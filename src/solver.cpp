@@ -106,8 +106,7 @@ void Solver::ensureCapacity(std::size_t n) {
     if (packed_.size() == n) return;
     packed_.resize(n);
     packedWithLambda_.resize(n);
-    delta_.resize(n);
-    vorticity_.resize(n);
+    if (params_.fluid.vorticity > 0.0f) vorticity_.resize(n);
 }
 
 void Solver::step(ParticleStore& p, float dt) {
@@ -174,23 +173,25 @@ void Solver::step(ParticleStore& p, float dt) {
     t = Clock::now();
     const FluidParams& fluid = params_.fluid;
     const SolverParams& s = params_.solver;
+    // x* is still packed in `predicted`; (v, rho) go to the other buffer.
+    PackedPoint* velocityDensity = withLambda;
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::updateVelocity(1.0f / dt, p.position, p.predicted, p.velocity, b, e);
+        stages::updateVelocity(1.0f / dt, p.position, p.predicted, density, p.velocity,
+                               velocityDensity, b, e);
     });
-    if (fluid.viscosity > 0.0f || fluid.vorticity > 0.0f) {
-        // x* is still packed in `predicted`; (v, rho) go to the other buffer.
-        PackedPoint* velocityDensity = withLambda;
+    const bool withVorticity = fluid.vorticity > 0.0f;
+    if (withVorticity) vorticity_.resize(n);  // allocates once, when first switched on
+    if (fluid.viscosity > 0.0f || withVorticity) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::packVelocityAndDensity(p.velocity, density, velocityDensity, b, e);
+            stages::applyViscosityAndComputeVorticity(
+                c, fluid.viscosity, search_, predicted, velocityDensity,
+                withVorticity ? &vorticity_ : nullptr, p.velocity, b, e);
         });
+    }
+    if (withVorticity) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeVorticityAndViscosity(c, fluid.viscosity, fluid.vorticity > 0.0f,
-                                                 search_, predicted, velocityDensity, vorticity_,
-                                                 delta_, b, e);
-        });
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::applyVorticityAndViscosity(c, fluid.vorticity, dt, search_, p.predicted,
-                                               vorticity_, density, delta_, p.velocity, b, e);
+            stages::applyVorticityConfinement(c, fluid.vorticity, dt, search_, p.predicted,
+                                              vorticity_, density, p.velocity, b, e);
         });
     }
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
@@ -207,7 +208,7 @@ void Solver::step(ParticleStore& p, float dt) {
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
-           sizeof(float) * (3 * delta_.x.capacity() + 3 * vorticity_.x.capacity());
+           sizeof(float) * 3 * vorticity_.x.capacity();
 }
 
 StageTimes& StageTimes::operator+=(const StageTimes& o) {

@@ -129,6 +129,19 @@ HWY_INLINE FloatVec spikyShapeOverR(const PairConstants& k, const PairBatch& b, 
     return hn::Mul(squared, b.inverseR);
 }
 
+// x^E by squaring: the shortest chain of multiplications.
+template <int E>
+HWY_INLINE FloatVec integerPower(FloatVec x) {
+    if constexpr (E == 1) {
+        return x;
+    } else if constexpr (E % 2 == 0) {
+        const FloatVec half = integerPower<E / 2>(x);
+        return hn::Mul(half, half);
+    } else {
+        return hn::Mul(x, integerPower<E - 1>(x));
+    }
+}
+
 // Runs the neighbour batches of particles i and i + 1 interleaved: one
 // particle's batches form a long dependency chain (loads, transpose, kernels,
 // accumulation, tree sums), and two independent chains in one loop keep the
@@ -278,8 +291,7 @@ struct CorrectionParticle {
         // Artificial pressure (eq. 13): a small repulsion that keeps
         // particles from clumping where the constraint is inactive.
         const FloatVec ratio = hn::Mul(poly6Shape(p.k, b), p.ratioScale);
-        FloatVec power = ratio;
-        for (int e = 1; e < Exponent; ++e) power = hn::Mul(power, ratio);
+        const FloatVec power = integerPower<Exponent>(ratio);
         FloatVec dd2;
         const FloatVec g = spikyShapeOverR(p.k, b, dd2);
         const FloatVec lambdaSum = hn::Add(lambdaI, b.w);  // w holds lambda_j
@@ -354,21 +366,20 @@ void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::siz
 }
 
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
-                    Float3Array& velocity, std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-        velocity.set(i, (predicted.get(i) - position.get(i)) * inverseDt);
+                    const float* density, Float3Array& velocity, PackedPoint* velocityDensity,
+                    std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 v = (predicted.get(i) - position.get(i)) * inverseDt;
+        velocity.set(i, v);
+        velocityDensity[i] = {v.x, v.y, v.z, density[i]};
+    }
 }
 
-void packVelocityAndDensity(const Float3Array& velocity, const float* density, PackedPoint* packed,
-                            std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-        packed[i] = {velocity.x[i], velocity.y[i], velocity.z[i], density[i]};
-}
-
-void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
-                                  const NeighborSearch& search, const PackedPoint* predicted,
-                                  const PackedPoint* velocityDensity, Float3Array& vorticity,
-                                  Float3Array& viscosityDelta, std::size_t begin, std::size_t end) {
+void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
+                                       const NeighborSearch& search, const PackedPoint* predicted,
+                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                       Float3Array& velocity, std::size_t begin, std::size_t end) {
+    const bool withVorticity = vorticity != nullptr;
     const FloatTag d;
     const std::size_t lanes = hn::Lanes(d);
     const PairConstants k = pairConstants(c.h, c.poly6.h2);
@@ -408,19 +419,22 @@ void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, boo
         }
         const float xsphScale = 2.0f * mass * c.poly6.coefficient * viscosity;
         const float vorticityScale = c.spiky.gradientCoefficient * mass;
-        vorticity.set(i, Vec3{sumOfLanes(ox), sumOfLanes(oy), sumOfLanes(oz)} * vorticityScale);
-        viscosityDelta.set(i, Vec3{sumOfLanes(dvx), sumOfLanes(dvy), sumOfLanes(dvz)} * xsphScale);
+        if (withVorticity)
+            vorticity->set(i,
+                           Vec3{sumOfLanes(ox), sumOfLanes(oy), sumOfLanes(oz)} * vorticityScale);
+        // The neighbours read v from the packed copy: v_i can be updated in place.
+        const Vec3 dv = Vec3{sumOfLanes(dvx), sumOfLanes(dvy), sumOfLanes(dvz)} * xsphScale;
+        velocity.set(i, Vec3{v.x, v.y, v.z} + dv);
     }
 }
 
-void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon, float dt,
-                                const NeighborSearch& search, const Float3Array& predicted,
-                                const Float3Array& vorticity, const float* density,
-                                const Float3Array& viscosityDelta, Float3Array& velocity,
-                                std::size_t begin, std::size_t end) {
+void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon, float dt,
+                               const NeighborSearch& search, const Float3Array& predicted,
+                               const Float3Array& vorticity, const float* density,
+                               Float3Array& velocity, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-        Vec3 v = velocity.get(i) + viscosityDelta.get(i);
-        if (vorticityEpsilon > 0.0f) {
+        Vec3 v = velocity.get(i);
+        {
             const Vec3 xi = predicted.get(i);
             const Vec3 omegaI = vorticity.get(i);
             const float magnitudeI = length(omegaI);

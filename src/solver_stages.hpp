@@ -60,29 +60,26 @@ void respondToSolids(const SolidSet& solids, float radius, float restitution, fl
                      const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
                      std::size_t end);
 
-// Alg. 1 l. 21: v = (x* - x) / dt.
+// Alg. 1 l. 21: v = (x* - x) / dt; also packs (v, rho) for the next pass.
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
-                    Float3Array& velocity, std::size_t begin, std::size_t end);
+                    const float* density, Float3Array& velocity, PackedPoint* velocityDensity,
+                    std::size_t begin, std::size_t end);
 
-// v_i and rho_i as packed records for the post-process's neighbour loop.
-void packVelocityAndDensity(const Float3Array& velocity, const float* density, PackedPoint* packed,
-                            std::size_t begin, std::size_t end);
-
-// Curl omega_i = sum_j V_j grad_i W_ij x (v_j - v_i) (paper eq. 15) and the
-// XSPH increment dv_i = c sum_j 2m/(rho_i + rho_j) (v_j - v_i) W_ij (eq. 17,
-// with the symmetric volume so that momentum is conserved).
-void computeVorticityAndViscosity(const SolverConstants& c, float viscosity, bool withVorticity,
-                                  const NeighborSearch& search, const PackedPoint* predicted,
-                                  const PackedPoint* velocityDensity, Float3Array& vorticity,
-                                  Float3Array& viscosityDelta, std::size_t begin, std::size_t end);
+// XSPH: v_i += c sum_j 2m/(rho_i + rho_j) (v_j - v_i) W_ij (eq. 17, with the
+// symmetric volume so that momentum is conserved), reading v_j and rho_j
+// from `velocityDensity`. With `vorticity` (may be null) also the curl
+// omega_i = sum_j V_j grad_i W_ij x (v_j - v_i) (paper eq. 15).
+void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
+                                       const NeighborSearch& search, const PackedPoint* predicted,
+                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                       Float3Array& velocity, std::size_t begin, std::size_t end);
 
 // Vorticity confinement (eq. 16): N = eta/|eta|, eta = grad |omega|, and
-// a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i and the XSPH increment.
-void applyVorticityAndViscosity(const SolverConstants& c, float vorticityEpsilon, float dt,
-                                const NeighborSearch& search, const Float3Array& predicted,
-                                const Float3Array& vorticity, const float* density,
-                                const Float3Array& viscosityDelta, Float3Array& velocity,
-                                std::size_t begin, std::size_t end);
+// a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i to v_i.
+void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon, float dt,
+                               const NeighborSearch& search, const Float3Array& predicted,
+                               const Float3Array& vorticity, const float* density,
+                               Float3Array& velocity, std::size_t begin, std::size_t end);
 
 // Particles touching a wall of the collision box: the normal velocity into
 // the wall is reflected with `restitution`; the tangential velocity loses

@@ -121,8 +121,7 @@ class Solver {
     // corrected x*. The post-process reuses them for x* and (v, rho).
     std::vector<PackedPoint> packed_;
     std::vector<PackedPoint> packedWithLambda_;
-    Float3Array delta_;      // velocity increments (XSPH)
-    Float3Array vorticity_;  // omega_i
+    Float3Array vorticity_;  // omega_i, only while vorticity confinement is on
 };
 
 // Largest particle speed (m/s).
