@@ -33,7 +33,6 @@ NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t max
     nz_ = cellsAlong(e.z, radius);
     cellCount_ = std::size_t{nx_} * ny_ * nz_;
     cellStart_.assign(cellCount_ + 1, 0);
-    cellCursor_.assign(cellCount_ + 1, 0);
 }
 
 std::uint32_t NeighborSearch::cellCoord(float value, float origin, std::uint32_t count) const {
@@ -54,24 +53,21 @@ std::uint32_t NeighborSearch::cellIndexOf(const Vec3& p) const {
 void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm) {
     const std::size_t n = positions.size();
     cellOfParticle_.resize(n);
-    sortedCell_.resize(n);
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
             cellOfParticle_[i] = cellIndexOf(positions.get(i));
     });
     // Stable counting sort: particles keep their relative order inside a
-    // cell, so the result is the same whatever the thread count.
+    // cell, so the result is the same whatever the thread count. The starts
+    // serve as the cursors, then move back one cell (no second table).
     std::fill(cellStart_.begin(), cellStart_.end(), 0u);
     for (std::size_t i = 0; i < n; ++i) ++cellStart_[cellOfParticle_[i] + 1];
     for (std::size_t c = 0; c < cellCount_; ++c) cellStart_[c + 1] += cellStart_[c];
-    std::copy(cellStart_.begin(), cellStart_.end(), cellCursor_.begin());
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t c = cellOfParticle_[i];
-        const std::uint32_t slot = cellCursor_[c]++;
-        perm[slot] = static_cast<std::uint32_t>(i);
-        sortedCell_[slot] = c;
-    }
+    for (std::size_t i = 0; i < n; ++i)
+        perm[cellStart_[cellOfParticle_[i]]++] = static_cast<std::uint32_t>(i);
+    std::copy_backward(cellStart_.begin(), cellStart_.end() - 1, cellStart_.end());
+    cellStart_[0] = 0;
 }
 
 template <class Visit>
@@ -113,13 +109,19 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
         std::size_t used = 0;
         for (std::size_t i = begin; i < end; ++i) {
             const std::size_t before = used;
-            forEachStencilRange(sortedCell_[i], [&](std::uint32_t first, std::uint32_t last) {
-                // Room for every candidate of the row and a vector's overhang
-                // (grows rarely, amortised).
-                const std::size_t needed = used + (last - first) + simd::kMaxLanes;
-                if (list.size() < needed) list.resize(needed + needed / 4 + 1024);
-                used += collectRow(positions, i, first, last, list.data() + used);
-            });
+            // The cell sortByCell put i in: the positions have not moved since.
+            forEachStencilRange(
+                cellIndexOf(positions.get(i)), [&](std::uint32_t first, std::uint32_t last) {
+                    // Room for every candidate of the row and a vector's overhang
+                    // (grows rarely, amortised).
+                    const std::size_t needed = used + (last - first) + simd::kMaxLanes;
+                    if (list.size() < needed) {
+                        const std::size_t grown = needed + needed / 16 + 1024;
+                        list.reserve(grown);  // exactly: resize alone may double the capacity
+                        list.resize(grown);
+                    }
+                    used += collectRow(positions, i, first, last, list.data() + used);
+                });
             listStart_[i] = static_cast<std::uint32_t>(before);
             listCount_[i] = static_cast<std::uint32_t>(used - before);
         }
@@ -176,9 +178,8 @@ std::size_t NeighborSearch::memoryBytes() const {
     std::size_t blockBytes = 0;
     for (const auto& list : blockLists_) blockBytes += sizeof(std::uint32_t) * list.capacity();
     return blockBytes +
-           sizeof(std::uint32_t) *
-               (cellOfParticle_.capacity() + cellStart_.capacity() + cellCursor_.capacity() +
-                sortedCell_.capacity() + listStart_.capacity() + listCount_.capacity()) +
+           sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
+                                    listStart_.capacity() + listCount_.capacity()) +
            sizeof(std::size_t) * blockUsed_.capacity();
 }
 

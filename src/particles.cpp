@@ -54,4 +54,12 @@ std::vector<std::uint32_t> ParticleStore::orderById() const {
     return order;
 }
 
+std::size_t ParticleStore::memoryBytes() const {
+    std::size_t floats = density.capacity() + scratchFloat_.capacity();
+    for (const Float3Array* a : {&position, &predicted, &velocity})
+        floats += a->x.capacity() + a->y.capacity() + a->z.capacity();
+    return sizeof(float) * floats +
+           sizeof(std::uint32_t) * (id.capacity() + scratchIndex_.capacity());
+}
+
 }  // namespace pbf

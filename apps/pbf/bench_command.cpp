@@ -68,8 +68,8 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
         result.perStep += solver.lastStageTimes() * (1.0 / args.steps);
     }
     result.stepMs = result.perStep.total;
-    const std::size_t stateBytes = particles.size() * (sizeof(float) * 11 + sizeof(std::uint32_t));
-    result.bytesPerParticle = double(stateBytes + solver.memoryBytes()) / double(particles.size());
+    result.bytesPerParticle =
+        double(particles.memoryBytes() + solver.memoryBytes()) / double(particles.size());
     result.neighborsPerParticle =
         double(solver.neighborSearch().totalNeighborCount()) / double(particles.size());
     return result;

@@ -78,8 +78,6 @@ class NeighborSearch {
 
     std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
     std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
-    std::vector<std::uint32_t> cellCursor_;      // counting-sort scratch
-    std::vector<std::uint32_t> sortedCell_;      // cell of each particle, sorted order
     // Neighbour lists: those of block b's particles lie one after the other
     // in blockLists_[b]; particle i's starts at listStart_[i].
     std::vector<std::vector<std::uint32_t>> blockLists_;

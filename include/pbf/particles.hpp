@@ -63,6 +63,8 @@ class ParticleStore {
     // Permutes every array: new index k takes the particle at old index perm[k].
     // `perm` must be a permutation of [0, size()).
     void reorder(std::span<const std::uint32_t> perm);
+    // Bytes held by the particle arrays and the reorder scratch.
+    std::size_t memoryBytes() const;
     // Indices of the particles sorted by id (for writing files in a stable order).
     std::vector<std::uint32_t> orderById() const;
     // The id the next add() gives (saved and restored by checkpoints).
