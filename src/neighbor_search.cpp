@@ -15,6 +15,69 @@ std::uint32_t cellsAlong(float extent, float cell) {
     return static_cast<std::uint32_t>(std::max(1.0f, std::ceil(extent / cell)));
 }
 
+namespace hn = simd::hn;
+
+// Particle i and the distance test against it, set up once per particle.
+struct RowTest {
+    const float* px;
+    const float* py;
+    const float* pz;
+    std::size_t n;
+    std::uint32_t i;
+    float xi, yi, zi, r2max;
+    simd::FloatVec vxi, vyi, vzi, vr2max;
+    simd::IntVec self;
+
+    HWY_INLINE RowTest(const Float3Array& positions, std::size_t particle, float radius)
+        : px(positions.x.data()),
+          py(positions.y.data()),
+          pz(positions.z.data()),
+          n(positions.size()),
+          i(static_cast<std::uint32_t>(particle)),
+          xi(px[particle]),
+          yi(py[particle]),
+          zi(pz[particle]),
+          r2max(radius * radius) {
+        const simd::FloatTag d;
+        vxi = hn::Set(d, xi);
+        vyi = hn::Set(d, yi);
+        vzi = hn::Set(d, zi);
+        vr2max = hn::Set(d, r2max);
+        self = hn::Set(simd::IntTag{}, static_cast<std::int32_t>(i));
+    }
+};
+
+// Appends to `out` the particles of [first, last) closer than h to i (not
+// i); returns their number. `out` has room for last - first plus one vector.
+HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t first, std::uint32_t last,
+                                  std::uint32_t* out) {
+    const simd::FloatTag d;
+    const simd::IntTag di;
+    const std::size_t lanes = hn::Lanes(d);
+    std::size_t found = 0;
+    std::uint32_t j = first;
+    // Full vectors while they stay inside the arrays (lanes past `last` are
+    // masked off; reading them is harmless).
+    for (; j < last && j + lanes <= t.n; j += static_cast<std::uint32_t>(lanes)) {
+        const simd::FloatVec dx = hn::Sub(t.vxi, hn::LoadU(d, t.px + j));
+        const simd::FloatVec dy = hn::Sub(t.vyi, hn::LoadU(d, t.py + j));
+        const simd::FloatVec dz = hn::Sub(t.vzi, hn::LoadU(d, t.pz + j));
+        const simd::FloatVec r2 = hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dz, dz)));
+        const simd::FloatMask close = hn::And(hn::FirstN(d, last - j), hn::Lt(r2, t.vr2max));
+        const simd::IntVec index = hn::Iota(di, static_cast<std::int32_t>(j));
+        const auto take = hn::AndNot(hn::Eq(index, t.self), hn::RebindMask(di, close));
+        hn::StoreU(hn::Compress(index, take), di, reinterpret_cast<std::int32_t*>(out + found));
+        found += hn::CountTrue(di, take);
+    }
+    // The array's last few particles, one at a time, branch-free.
+    for (; j < last; ++j) {
+        const float dx = t.xi - t.px[j], dy = t.yi - t.py[j], dz = t.zi - t.pz[j];
+        out[found] = j;
+        found += static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < t.r2max) & (j != t.i));
+    }
+    return found;
+}
+
 }  // namespace
 
 NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells)
@@ -108,20 +171,28 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
         std::vector<std::uint32_t>& list = blockLists_[block];
         std::size_t used = 0;
         for (std::size_t i = begin; i < end; ++i) {
+            // The rows of the cell sortByCell put i in (x* has not moved since).
+            std::uint32_t rowFirst[9], rowLast[9];
+            int rows = 0;
+            std::size_t candidates = 0;
+            forEachStencilRange(cellIndexOf(positions.get(i)),
+                                [&](std::uint32_t first, std::uint32_t last) {
+                                    rowFirst[rows] = first;
+                                    rowLast[rows++] = last;
+                                    candidates += last - first;
+                                });
+            // Room for every candidate and a vector's overhang (grows rarely,
+            // amortised).
+            const std::size_t needed = used + candidates + simd::kMaxLanes;
+            if (list.size() < needed) {
+                const std::size_t grown = needed + needed / 16 + 1024;
+                list.reserve(grown);  // exactly: resize alone may double the capacity
+                list.resize(grown);
+            }
             const std::size_t before = used;
-            // The cell sortByCell put i in: the positions have not moved since.
-            forEachStencilRange(
-                cellIndexOf(positions.get(i)), [&](std::uint32_t first, std::uint32_t last) {
-                    // Room for every candidate of the row and a vector's overhang
-                    // (grows rarely, amortised).
-                    const std::size_t needed = used + (last - first) + simd::kMaxLanes;
-                    if (list.size() < needed) {
-                        const std::size_t grown = needed + needed / 16 + 1024;
-                        list.reserve(grown);  // exactly: resize alone may double the capacity
-                        list.resize(grown);
-                    }
-                    used += collectRow(positions, i, first, last, list.data() + used);
-                });
+            const RowTest test(positions, i, radius_);
+            for (int r = 0; r < rows; ++r)
+                used += collectRow(test, rowFirst[r], rowLast[r], list.data() + used);
             listStart_[i] = static_cast<std::uint32_t>(before);
             listCount_[i] = static_cast<std::uint32_t>(used - before);
         }
@@ -132,46 +203,6 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     });
     totalNeighbors_ = 0;
     for (std::size_t b = 0; b < blocks; ++b) totalNeighbors_ += blockUsed_[b];
-}
-
-std::size_t NeighborSearch::collectRow(const Float3Array& positions, std::size_t i,
-                                       std::uint32_t first, std::uint32_t last,
-                                       std::uint32_t* out) const {
-    namespace hn = simd::hn;
-    const simd::FloatTag d;
-    const simd::IntTag di;
-    const std::size_t lanes = hn::Lanes(d);
-    const std::size_t n = positions.size();
-    const float* px = positions.x.data();
-    const float* py = positions.y.data();
-    const float* pz = positions.z.data();
-    const float xi = px[i], yi = py[i], zi = pz[i];
-    const float r2max = radius_ * radius_;
-    const simd::FloatVec vxi = hn::Set(d, xi), vyi = hn::Set(d, yi), vzi = hn::Set(d, zi);
-    const simd::FloatVec vr2max = hn::Set(d, r2max);
-    const simd::IntVec self = hn::Set(di, static_cast<std::int32_t>(i));
-    std::size_t found = 0;
-    std::uint32_t j = first;
-    // Full vectors while they stay inside the arrays (lanes past `last` are
-    // masked off; reading them is harmless).
-    for (; j < last && j + lanes <= n; j += static_cast<std::uint32_t>(lanes)) {
-        const simd::FloatVec dx = hn::Sub(vxi, hn::LoadU(d, px + j));
-        const simd::FloatVec dy = hn::Sub(vyi, hn::LoadU(d, py + j));
-        const simd::FloatVec dz = hn::Sub(vzi, hn::LoadU(d, pz + j));
-        const simd::FloatVec r2 = hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dz, dz)));
-        const simd::FloatMask close = hn::And(hn::FirstN(d, last - j), hn::Lt(r2, vr2max));
-        const simd::IntVec index = hn::Iota(di, static_cast<std::int32_t>(j));
-        const auto take = hn::AndNot(hn::Eq(index, self), hn::RebindMask(di, close));
-        hn::StoreU(hn::Compress(index, take), di, reinterpret_cast<std::int32_t*>(out + found));
-        found += hn::CountTrue(di, take);
-    }
-    // The array's last few particles, one at a time, branch-free.
-    for (; j < last; ++j) {
-        const float dx = xi - px[j], dy = yi - py[j], dz = zi - pz[j];
-        out[found] = j;
-        found += static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < r2max) & (j != i));
-    }
-    return found;
 }
 
 std::size_t NeighborSearch::memoryBytes() const {

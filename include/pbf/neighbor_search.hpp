@@ -63,11 +63,6 @@ class NeighborSearch {
     // Cell range [first, last) of the 9 x-rows of the 27-cell stencil around `cell`.
     template <class Visit>
     void forEachStencilRange(std::uint32_t cell, Visit&& visit) const;
-    // Appends to `out` the particles of [first, last) closer than h to i
-    // (not i); returns their number. `out` has room for last - first plus
-    // one SIMD vector.
-    std::size_t collectRow(const Float3Array& positions, std::size_t i, std::uint32_t first,
-                           std::uint32_t last, std::uint32_t* out) const;
     std::uint32_t cellCoord(float value, float origin, std::uint32_t count) const;
 
     Aabb domain_;
