@@ -134,18 +134,37 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
 }
 
 template <class Visit>
-void NeighborSearch::forEachStencilRange(std::uint32_t cell, Visit&& visit) const {
-    const std::uint32_t cx = cell % nx_;
-    const std::uint32_t cy = (cell / nx_) % ny_;
-    const std::uint32_t cz = cell / (nx_ * ny_);
-    const std::uint32_t x0 = cx > 0 ? cx - 1 : 0;
-    const std::uint32_t x1 = std::min(cx + 1, nx_ - 1);
+void NeighborSearch::forEachStencilRange(const Vec3& p, Visit&& visit) const {
+    const std::uint32_t cx = cellCoord(p.x, domain_.min.x, nx_);
+    const std::uint32_t cy = cellCoord(p.y, domain_.min.y, ny_);
+    const std::uint32_t cz = cellCoord(p.z, domain_.min.z, nz_);
+    // Distances from p to the lower and upper faces of its cell, clamped into
+    // the cell (for points outside the grid this underestimates the distance
+    // to the rows, so nothing closer than h is dropped).
+    const float cell = radius_;
+    auto faces = [cell](float value, float origin, std::uint32_t c, float& lower, float& upper) {
+        lower = std::clamp(value - origin - float(c) * cell, 0.0f, cell);
+        upper = cell - lower;
+    };
+    float lx, ux, ly, uy, lz, uz;
+    faces(p.x, domain_.min.x, cx, lx, ux);
+    faces(p.y, domain_.min.y, cy, ly, uy);
+    faces(p.z, domain_.min.z, cz, lz, uz);
+    // Rows (or their end cells) farther than h from p hold no neighbour: skip
+    // them. The margin keeps rounding from dropping a particle at r ~ h.
+    const float reach2 = radius_ * radius_ * (1.0f + 1e-4f);
     const std::uint32_t z0 = cz > 0 ? cz - 1 : 0;
     const std::uint32_t z1 = std::min(cz + 1, nz_ - 1);
     const std::uint32_t y0 = cy > 0 ? cy - 1 : 0;
     const std::uint32_t y1 = std::min(cy + 1, ny_ - 1);
     for (std::uint32_t z = z0; z <= z1; ++z) {
+        const float dz = z < cz ? lz : (z > cz ? uz : 0.0f);
         for (std::uint32_t y = y0; y <= y1; ++y) {
+            const float dy = y < cy ? ly : (y > cy ? uy : 0.0f);
+            const float left = reach2 - dy * dy - dz * dz;  // squared x reach left over
+            if (left <= 0.0f) continue;
+            const std::uint32_t x0 = cx > 0 && lx * lx < left ? cx - 1 : cx;
+            const std::uint32_t x1 = cx + 1 < nx_ && ux * ux < left ? cx + 1 : cx;
             const std::size_t row = std::size_t{nx_} * (y + std::size_t{ny_} * z);
             visit(cellStart_[row + x0], cellStart_[row + x1 + 1]);
         }
@@ -175,12 +194,11 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
             std::uint32_t rowFirst[9], rowLast[9];
             int rows = 0;
             std::size_t candidates = 0;
-            forEachStencilRange(cellIndexOf(positions.get(i)),
-                                [&](std::uint32_t first, std::uint32_t last) {
-                                    rowFirst[rows] = first;
-                                    rowLast[rows++] = last;
-                                    candidates += last - first;
-                                });
+            forEachStencilRange(positions.get(i), [&](std::uint32_t first, std::uint32_t last) {
+                rowFirst[rows] = first;
+                rowLast[rows++] = last;
+                candidates += last - first;
+            });
             // Room for every candidate and a vector's overhang (grows rarely,
             // amortised).
             const std::size_t needed = used + candidates + simd::kMaxLanes;

@@ -60,9 +60,10 @@ class NeighborSearch {
     // Particles per list buffer: the blocks of the parallel loops.
     static constexpr std::size_t kListBlockSize = 1024;
 
-    // Cell range [first, last) of the 9 x-rows of the 27-cell stencil around `cell`.
+    // Cell ranges [first, last) of the x-rows of the 27-cell stencil around
+    // the cell of p, without the rows and end cells farther than h from p.
     template <class Visit>
-    void forEachStencilRange(std::uint32_t cell, Visit&& visit) const;
+    void forEachStencilRange(const Vec3& p, Visit&& visit) const;
     std::uint32_t cellCoord(float value, float origin, std::uint32_t count) const;
 
     Aabb domain_;
