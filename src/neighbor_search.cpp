@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -48,11 +50,16 @@ struct RowTest {
 };
 
 // Appends to `out` the particles of [first, last) closer than h to i (not
-// i); returns their number. `out` has room for last - first plus one vector.
-HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t first, std::uint32_t last,
-                                  std::uint32_t* out) {
+// i); returns their number. Wide lists store 32-bit indices, compact ones
+// 16-bit offsets from `base`. `out` has room for last - first entries plus
+// one vector.
+template <bool Wide>
+HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t base, std::uint32_t first,
+                                  std::uint32_t last, std::uint16_t* out) {
     const simd::FloatTag d;
     const simd::IntTag di;
+    const hn::Rebind<std::uint16_t, simd::IntTag> d16;
+    const simd::IntVec vbase = hn::Set(di, static_cast<std::int32_t>(base));
     const std::size_t lanes = hn::Lanes(d);
     std::size_t found = 0;
     std::uint32_t j = first;
@@ -66,13 +73,22 @@ HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t first, std::ui
         const simd::FloatMask close = hn::And(hn::FirstN(d, last - j), hn::Lt(r2, t.vr2max));
         const simd::IntVec index = hn::Iota(di, static_cast<std::int32_t>(j));
         const auto take = hn::AndNot(hn::Eq(index, t.self), hn::RebindMask(di, close));
-        hn::StoreU(hn::Compress(index, take), di, reinterpret_cast<std::int32_t*>(out + found));
+        const simd::IntVec taken = hn::Compress(index, take);
+        if constexpr (Wide) {
+            hn::StoreU(taken, di, reinterpret_cast<std::int32_t*>(out + 2 * found));
+        } else {
+            hn::StoreU(hn::DemoteTo(d16, hn::Sub(taken, vbase)), d16, out + found);
+        }
         found += hn::CountTrue(di, take);
     }
     // The array's last few particles, one at a time, branch-free.
     for (; j < last; ++j) {
         const float dx = t.xi - t.px[j], dy = t.yi - t.py[j], dz = t.zi - t.pz[j];
-        out[found] = j;
+        if constexpr (Wide) {
+            std::memcpy(out + 2 * found, &j, sizeof j);
+        } else {
+            out[found] = static_cast<std::uint16_t>(j - base);
+        }
         found += static_cast<std::size_t>((dx * dx + dy * dy + dz * dz < t.r2max) & (j != t.i));
     }
     return found;
@@ -80,8 +96,12 @@ HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t first, std::ui
 
 }  // namespace
 
-NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells)
-    : domain_(domain), radius_(radius), inverseCell_(1.0f / radius) {
+NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells,
+                               std::uint32_t compactSpan)
+    : domain_(domain),
+      radius_(radius),
+      inverseCell_(1.0f / radius),
+      compactSpan_(std::min<std::uint32_t>(compactSpan, 65536)) {
     if (!(radius > 0.0f)) throw std::invalid_argument("neighbour search radius must be positive");
     const Vec3 e = domain.extent();
     const double cells = std::ceil(double(e.x) / radius) * std::ceil(double(e.y) / radius) *
@@ -176,21 +196,32 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     const std::size_t n = positions.size();
     listStart_.resize(n);
     listCount_.resize(n);
-    const std::size_t blocks = (n + kListBlockSize - 1) / kListBlockSize;
-    if (blockLists_.size() < blocks) blockLists_.resize(blocks);
-    blockUsed_.assign(blocks, 0);
+    blockCount_ = (n + kListBlockSize - 1) / kListBlockSize;
+    if (blocks_.size() < blockCount_) blocks_.resize(blockCount_);
+    blockNeighbors_.assign(blockCount_, 0);
 
     // Each block of particles writes its lists into its own buffer, kept
-    // between steps; the lists stay there (no copy into one array). Each
-    // stencil row is a contiguous candidate range, tested a SIMD vector at a
-    // time; the indices of the candidates closer than h are compressed into
-    // the list in index order (the same order as a scalar loop).
+    // between steps; the lists stay there (no copy into one array). When the
+    // indices a block can reach span at most 65536 (most blocks: sorted
+    // particles are near their neighbours in memory) the lists store 16-bit
+    // offsets from the lowest, halving their memory. Each row is a contiguous candidate range,
+    // tested a SIMD vector at a time; the indices of the candidates closer than h are compressed
+    // into the list in index order.
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        const std::size_t block = begin / kListBlockSize;
-        std::vector<std::uint32_t>& list = blockLists_[block];
-        std::size_t used = 0;
+        ListBlock& block = blocks_[begin / kListBlockSize];
+        // The stencils of the block's cells (sorted: from the first
+        // particle's to the last one's) lie within one z-slab and row of
+        // them, so its lists index [lowest, highest).
+        const std::size_t reach = std::size_t{nx_} * ny_ + nx_ + 1;
+        const std::size_t firstCell = cellIndexOf(positions.get(begin));
+        const std::size_t lastCell = cellIndexOf(positions.get(end - 1));
+        const std::uint32_t lowest = cellStart_[firstCell > reach ? firstCell - reach : 0];
+        const std::uint32_t highest = cellStart_[std::min(lastCell + reach + 1, cellCount_)];
+        block.wide = highest - lowest > compactSpan_;
+        block.base = block.wide ? 0 : lowest;
+        const std::size_t units = block.wide ? 2 : 1;  // 16-bit units per entry
+        std::size_t used = 0;                          // entries
         for (std::size_t i = begin; i < end; ++i) {
-            // The rows of the cell sortByCell put i in (x* has not moved since).
             std::uint32_t rowFirst[9], rowLast[9];
             int rows = 0;
             std::size_t candidates = 0;
@@ -200,36 +231,48 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
                 candidates += last - first;
             });
             // Room for every candidate and a vector's overhang (grows rarely,
-            // amortised).
-            const std::size_t needed = used + candidates + simd::kMaxLanes;
-            if (list.size() < needed) {
+            // amortised; reserve first: resize alone may double the capacity).
+            const std::size_t needed = units * (used + candidates + simd::kMaxLanes);
+            if (block.entries.size() < needed) {
                 const std::size_t grown = needed + needed / 16 + 1024;
-                list.reserve(grown);  // exactly: resize alone may double the capacity
-                list.resize(grown);
+                block.entries.reserve(grown);
+                block.entries.resize(grown);
             }
-            const std::size_t before = used;
             const RowTest test(positions, i, radius_);
+            const std::size_t before = used;
+            std::uint16_t* out = block.entries.data();
             for (int r = 0; r < rows; ++r)
-                used += collectRow(test, rowFirst[r], rowLast[r], list.data() + used);
-            listStart_[i] = static_cast<std::uint32_t>(before);
+                used +=
+                    block.wide
+                        ? collectRow<true>(test, 0, rowFirst[r], rowLast[r], out + 2 * used)
+                        : collectRow<false>(test, block.base, rowFirst[r], rowLast[r], out + used);
+            listStart_[i] = static_cast<std::uint32_t>(units * before);
             listCount_[i] = static_cast<std::uint32_t>(used - before);
         }
-        // Slack past the last list: SIMD loads of a list's last batch read
-        // it as particle indices, so keep them valid.
-        std::fill_n(list.begin() + static_cast<std::ptrdiff_t>(used), simd::kMaxLanes, 0u);
-        blockUsed_[block] = used;
+        // Slack past the last list: SIMD loops read it as list entries, so
+        // keep it valid (0: the block's base index).
+        std::fill_n(block.entries.begin() + static_cast<std::ptrdiff_t>(units * used),
+                    units * simd::kMaxLanes, std::uint16_t{0});
+        blockNeighbors_[begin / kListBlockSize] = used;
     });
     totalNeighbors_ = 0;
-    for (std::size_t b = 0; b < blocks; ++b) totalNeighbors_ += blockUsed_[b];
+    for (std::size_t b = 0; b < blockCount_; ++b) totalNeighbors_ += blockNeighbors_[b];
+}
+
+std::size_t NeighborSearch::compactBlockCount() const {
+    std::size_t compact = 0;
+    for (std::size_t b = 0; b < blockCount_; ++b) compact += blocks_[b].wide ? 0 : 1;
+    return compact;
 }
 
 std::size_t NeighborSearch::memoryBytes() const {
     std::size_t blockBytes = 0;
-    for (const auto& list : blockLists_) blockBytes += sizeof(std::uint32_t) * list.capacity();
+    for (const ListBlock& block : blocks_)
+        blockBytes += sizeof(std::uint16_t) * block.entries.capacity();
     return blockBytes +
            sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
                                     listStart_.capacity() + listCount_.capacity()) +
-           sizeof(std::size_t) * blockUsed_.capacity();
+           sizeof(std::size_t) * blockNeighbors_.capacity();
 }
 
 }  // namespace pbf

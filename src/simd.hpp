@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace pbf::simd {
 
@@ -44,46 +45,39 @@ HWY_INLINE FloatVec reciprocalSqrt(FloatVec x) {
     return hn::Mul(y, hn::Sub(hn::Set(d, 1.5f), halfXY2));
 }
 
-// The indices k, k+1, ... of a neighbour list loaded as a vector; lanes past
-// `count` are 0 (a valid particle index to gather from) and `valid` is
-// false there.
-struct IndexBatch {
-    IntVec index;
-    FloatMask valid;
-};
-
-HWY_INLINE IndexBatch loadIndices(const std::uint32_t* list, std::size_t k, std::size_t count) {
-    const FloatTag d;
-    const IntTag di;
-    const FloatMask valid = hn::FirstN(d, count - k);
-    const IntVec index = hn::MaskedLoad(hn::RebindMask(di, valid), di,
-                                        reinterpret_cast<const std::int32_t*>(list + k));
-    return {index, valid};
-}
-
-HWY_INLINE FloatVec gather(const float* base, IntVec index) {
-    return hn::GatherIndex(FloatTag{}, base, index);
+// Entry k of a neighbour list: 32-bit indices in wide lists, 16-bit
+// offsets from the block's base index in compact ones (the caller offsets
+// the records it indexes by that base).
+template <bool Wide>
+HWY_INLINE std::uint32_t listEntry(const std::uint16_t* list, std::size_t k) {
+    if constexpr (Wide) {
+        std::uint32_t value;
+        std::memcpy(&value, list + 2 * k, sizeof value);
+        return value;
+    } else {
+        return list[k];
+    }
 }
 
 // Four floats per element (x, y, z, w of 16-byte aligned records) of the
-// elements `index`, as four vectors. On AVX-512 each record is one 16-byte
-// load and a 4x4 transpose puts the lanes in order: a quarter of the loads of
-// four gathers, which dominated the neighbour loops (the solve ran 2x faster
-// with contiguous loads in their place). Elsewhere: four gathers.
+// list entries list[0 .. lanes), as four vectors. All lanes' entries must be
+// readable and valid (lists keep zeroed slack at their end; lanes past the
+// list's end are masked by the caller). On AVX-512 each record is one
+// 16-byte load and a 4x4 transpose puts the lanes in order: a quarter of the
+// loads of four gathers, which dominated the neighbour loops (the solve ran
+// 2x faster with contiguous loads in their place). Elsewhere: four gathers.
 struct Gathered4 {
     FloatVec x, y, z, w;
 };
 
-// `list` points at the batch's indices: all lanes' entries must be
-// readable and valid element indices (lists keep zeroed slack at their end);
-// `index` is the same batch as a vector, its tail zeroed.
-HWY_INLINE Gathered4 gather4(const float* records, const std::uint32_t* list, IntVec index) {
+template <bool Wide>
+HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
     const FloatTag d;
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
     static_assert(hn::MaxLanes(FloatTag{}) == 16);
-    (void)index;  // scalar loads of the list beat extracting lanes from it
+    (void)d;
     auto record = [&](int lane) {
-        return _mm_load_ps(records + 4 * static_cast<std::size_t>(list[lane]));
+        return _mm_load_ps(records + 4 * static_cast<std::size_t>(listEntry<Wide>(list, lane)));
     };
     // q[m] holds the records of lanes m, 4 + m, 8 + m, 12 + m (one per 128-bit block).
     __m512 q[4];
@@ -97,21 +91,27 @@ HWY_INLINE Gathered4 gather4(const float* records, const std::uint32_t* list, In
     const __m512 zw01 = _mm512_unpackhi_ps(q[0], q[1]);
     const __m512 xy23 = _mm512_unpacklo_ps(q[2], q[3]);
     const __m512 zw23 = _mm512_unpackhi_ps(q[2], q[3]);
-    (void)d;
     return {FloatVec{_mm512_shuffle_ps(xy01, xy23, 0x44)},
             FloatVec{_mm512_shuffle_ps(xy01, xy23, 0xEE)},
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0x44)},
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0xEE)}};
 #else
-    (void)list;
+    const IntTag di;
+    IntVec index;
+    if constexpr (Wide) {
+        index = hn::LoadU(di, reinterpret_cast<const std::int32_t*>(list));
+    } else {
+        const hn::Rebind<std::uint16_t, IntTag> d16;
+        const hn::RebindToUnsigned<IntTag> du;
+        index = hn::BitCast(di, hn::PromoteTo(du, hn::LoadU(d16, list)));
+    }
     const IntVec at = hn::ShiftLeft<2>(index);
     return {hn::GatherIndex(d, records, at), hn::GatherIndex(d, records + 1, at),
             hn::GatherIndex(d, records + 2, at), hn::GatherIndex(d, records + 3, at)};
 #endif
 }
 
-// Lanes a list may be over-read by (targets without masked loads): arrays
-// read through loadIndices keep this many elements of slack.
+// Entries a list may be over-read by: list buffers keep this much slack.
 inline constexpr std::size_t kMaxLanes = 64;
 
 }  // namespace pbf::simd

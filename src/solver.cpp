@@ -88,11 +88,12 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     return c;
 }
 
-Solver::Solver(const SimulationParams& params, std::shared_ptr<const SolidSet> solids)
+Solver::Solver(const SimulationParams& params, std::shared_ptr<const SolidSet> solids,
+               std::uint32_t compactListSpan)
     : params_(params),
       constants_(SolverConstants::from(params)),
       solids_(solids && !solids->empty() ? std::move(solids) : nullptr),
-      search_(params.domain, params.kernelRadius()) {}
+      search_(params.domain, params.kernelRadius(), kMaxGridCells, compactListSpan) {}
 
 void Solver::setParams(const SimulationParams& params) {
     if (!(params.domain == params_.domain) || params.particleRadius != params_.particleRadius ||

@@ -79,7 +79,6 @@ using namespace simd;
 
 // Per-lane geometry of a batch of neighbours j of particle i.
 struct PairBatch {
-    IndexBatch j;
     FloatVec dx, dy, dz;  // x_i - x_j
     FloatVec w;           // the fourth float of j's packed record
     FloatVec r2;
@@ -96,13 +95,15 @@ PairConstants pairConstants(float h, float h2) {
     return {hn::Set(d, h), hn::Set(d, h2), hn::Set(d, 1e-30f)};
 }
 
-HWY_INLINE PairBatch loadPairs(const PairConstants& k, const PackedPoint* points, FloatVec xi,
-                               FloatVec yi, FloatVec zi, const std::uint32_t* list,
-                               std::size_t first, std::size_t count) {
+// `records` are the packed points offset by the list's base index.
+template <bool Wide>
+HWY_INLINE PairBatch loadPairs(const PairConstants& k, const PackedPoint* records, FloatVec xi,
+                               FloatVec yi, FloatVec zi, const NeighborList& list,
+                               std::size_t first) {
     const FloatTag d;
     PairBatch b;
-    b.j = loadIndices(list, first, count);
-    const Gathered4 xj = gather4(&points[0].x, list + first, b.j.index);
+    const FloatMask valid = hn::FirstN(d, list.count - first);
+    const Gathered4 xj = gather4<Wide>(&records[0].x, list.entries + (Wide ? 2 : 1) * first);
     b.dx = hn::Sub(xi, xj.x);
     b.dy = hn::Sub(yi, xj.y);
     b.dz = hn::Sub(zi, xj.z);
@@ -110,7 +111,7 @@ HWY_INLINE PairBatch loadPairs(const PairConstants& k, const PackedPoint* points
     b.r2 = hn::MulAdd(b.dx, b.dx, hn::MulAdd(b.dy, b.dy, hn::Mul(b.dz, b.dz)));
     // Neighbours are closer than h by construction, but x* moved since the
     // lists were built: keep the kernels' support exact.
-    b.inside = hn::And(b.j.valid, hn::And(hn::Lt(b.r2, k.h2), hn::Gt(b.r2, hn::Zero(d))));
+    b.inside = hn::And(valid, hn::And(hn::Lt(b.r2, k.h2), hn::Gt(b.r2, hn::Zero(d))));
     b.inverseR = reciprocalSqrt(hn::Max(b.r2, k.tiny));
     return b;
 }
@@ -153,17 +154,17 @@ HWY_INLINE void forEachParticleInterleaved(const Pass& pass, std::size_t begin, 
     std::size_t i = begin;
     for (; i + 1 < end; i += 2) {
         Particle a(pass, i), b(pass, i + 1);
-        const std::size_t longest = std::max(a.count, b.count);
+        const std::size_t longest = std::max(a.list.size(), b.list.size());
         for (std::size_t first = 0; first < longest; first += lanes) {
-            if (first < a.count) a.addBatch(pass, first);
-            if (first < b.count) b.addBatch(pass, first);
+            if (first < a.list.size()) a.addBatch(pass, first);
+            if (first < b.list.size()) b.addBatch(pass, first);
         }
         a.finish(pass, i);
         b.finish(pass, i + 1);
     }
     if (i < end) {
         Particle a(pass, i);
-        for (std::size_t first = 0; first < a.count; first += lanes) a.addBatch(pass, first);
+        for (std::size_t first = 0; first < a.list.size(); first += lanes) a.addBatch(pass, first);
         a.finish(pass, i);
     }
 }
@@ -173,6 +174,7 @@ struct DensityPass {
     const SolidSet* solids;
     const NeighborSearch& search;
     const PackedPoint* predicted;
+    const PackedPoint* neighborRecords;  // predicted + the block's list base
     float* density;
     PackedPoint* withLambda;
     PairConstants k;
@@ -180,25 +182,22 @@ struct DensityPass {
     float spiky;
 };
 
+template <bool Wide>
 struct DensityParticle {
     FloatVec xi, yi, zi;
-    const std::uint32_t* list;
-    std::size_t count;
+    NeighborList list;
     FloatVec kernel, gx, gy, gz, gradSquared;
 
-    HWY_INLINE DensityParticle(const DensityPass& p, std::size_t i) {
+    HWY_INLINE DensityParticle(const DensityPass& p, std::size_t i) : list(p.search.neighbors(i)) {
         const FloatTag d;
         xi = hn::Set(d, p.predicted[i].x);
         yi = hn::Set(d, p.predicted[i].y);
         zi = hn::Set(d, p.predicted[i].z);
-        const std::span<const std::uint32_t> nbrs = p.search.neighbors(i);
-        list = nbrs.data();
-        count = nbrs.size();
         kernel = gx = gy = gz = gradSquared = hn::Zero(d);
     }
 
     HWY_INLINE void addBatch(const DensityPass& p, std::size_t first) {
-        const PairBatch b = loadPairs(p.k, p.predicted, xi, yi, zi, list, first, count);
+        const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
         kernel = hn::Add(kernel, poly6Shape(p.k, b));
         FloatVec dd2;
         const FloatVec g = spikyShapeOverR(p.k, b, dd2);
@@ -237,16 +236,21 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                              float* density, PackedPoint* withLambda, std::size_t begin,
                              std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;
+    const NeighborList block = search.neighbors(begin);
     const DensityPass pass{c,
                            solids,
                            search,
                            predicted,
+                           predicted + block.base,
                            density,
                            withLambda,
                            pairConstants(c.h, c.poly6.h2),
                            gradScale,
                            c.spiky.gradientCoefficient * gradScale};
-    forEachParticleInterleaved<DensityParticle>(pass, begin, end);
+    if (block.wide)
+        forEachParticleInterleaved<DensityParticle<true>>(pass, begin, end);
+    else
+        forEachParticleInterleaved<DensityParticle<false>>(pass, begin, end);
 }
 
 namespace {
@@ -258,6 +262,7 @@ struct CorrectionPass {
     const NeighborSearch& search;
     const Float3Array& start;
     const PackedPoint* withLambda;
+    const PackedPoint* neighborRecords;  // withLambda + the block's list base
     PackedPoint* corrected;
     PairConstants k;
     FloatVec ratioScale;  // poly6 coefficient / W(dq)
@@ -266,28 +271,25 @@ struct CorrectionPass {
 
 // The correction for a compile-time s_corr exponent: (W/W(dq))^n as
 // straight multiplications.
-template <int Exponent>
+template <int Exponent, bool Wide>
 struct CorrectionParticle {
     FloatVec xi, yi, zi, lambdaI;
-    const std::uint32_t* list;
-    std::size_t count;
+    NeighborList list;
     FloatVec sx, sy, sz;
 
-    HWY_INLINE CorrectionParticle(const CorrectionPass& p, std::size_t i) {
+    HWY_INLINE CorrectionParticle(const CorrectionPass& p, std::size_t i)
+        : list(p.search.neighbors(i)) {
         const FloatTag d;
         const PackedPoint& x = p.withLambda[i];
         xi = hn::Set(d, x.x);
         yi = hn::Set(d, x.y);
         zi = hn::Set(d, x.z);
         lambdaI = hn::Set(d, x.w);
-        const std::span<const std::uint32_t> nbrs = p.search.neighbors(i);
-        list = nbrs.data();
-        count = nbrs.size();
         sx = sy = sz = hn::Zero(d);
     }
 
     HWY_INLINE void addBatch(const CorrectionPass& p, std::size_t first) {
-        const PairBatch b = loadPairs(p.k, p.withLambda, xi, yi, zi, list, first, count);
+        const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
         // Artificial pressure (eq. 13): a small repulsion that keeps
         // particles from clumping where the constraint is inactive.
         const FloatVec ratio = hn::Mul(poly6Shape(p.k, b), p.ratioScale);
@@ -324,7 +326,10 @@ struct CorrectionParticle {
 
 template <int Exponent>
 void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std::size_t end) {
-    forEachParticleInterleaved<CorrectionParticle<Exponent>>(pass, begin, end);
+    if (pass.search.neighbors(begin).wide)
+        forEachParticleInterleaved<CorrectionParticle<Exponent, true>>(pass, begin, end);
+    else
+        forEachParticleInterleaved<CorrectionParticle<Exponent, false>>(pass, begin, end);
 }
 
 }  // namespace
@@ -340,6 +345,7 @@ void correctPositions(const SolverConstants& c, const SolidSet* solids, float ra
                               search,
                               start,
                               withLambda,
+                              withLambda + search.neighbors(begin).base,
                               corrected,
                               pairConstants(c.h, c.poly6.h2),
                               hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
@@ -375,10 +381,14 @@ void updateVelocity(float inverseDt, const Float3Array& position, const Float3Ar
     }
 }
 
-void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
-                                       const NeighborSearch& search, const PackedPoint* predicted,
-                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
-                                       Float3Array& velocity, std::size_t begin, std::size_t end) {
+namespace {
+
+template <bool Wide>
+void viscosityAndVorticityRange(const SolverConstants& c, float viscosity,
+                                const NeighborSearch& search, const PackedPoint* predicted,
+                                const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                Float3Array& velocity, std::size_t begin, std::size_t end) {
+    const std::uint32_t base = search.neighbors(begin).base;
     const bool withVorticity = vorticity != nullptr;
     const FloatTag d;
     const std::size_t lanes = hn::Lanes(d);
@@ -391,13 +401,13 @@ void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity
         const FloatVec vxi = hn::Set(d, x.x), vyi = hn::Set(d, x.y), vzi = hn::Set(d, x.z);
         const FloatVec uxi = hn::Set(d, v.x), uyi = hn::Set(d, v.y), uzi = hn::Set(d, v.z);
         const FloatVec rhoI = hn::Set(d, v.w);
-        const std::span<const std::uint32_t> nbrs = search.neighbors(i);
+        const NeighborList nbrs = search.neighbors(i);
         FloatVec dvx = hn::Zero(d), dvy = hn::Zero(d), dvz = hn::Zero(d);
         FloatVec ox = hn::Zero(d), oy = hn::Zero(d), oz = hn::Zero(d);
         for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
-            const PairBatch b =
-                loadPairs(k, predicted, vxi, vyi, vzi, nbrs.data(), first, nbrs.size());
-            const Gathered4 vj = gather4(&velocityDensity[0].x, nbrs.data() + first, b.j.index);
+            const PairBatch b = loadPairs<Wide>(k, predicted + base, vxi, vyi, vzi, nbrs, first);
+            const Gathered4 vj =
+                gather4<Wide>(&velocityDensity[base].x, nbrs.entries + (Wide ? 2 : 1) * first);
             const FloatVec wx = hn::Sub(vj.x, uxi), wy = hn::Sub(vj.y, uyi),
                            wz = hn::Sub(vj.z, uzi);
             const FloatVec rhoJ = vj.w;
@@ -428,6 +438,20 @@ void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity
     }
 }
 
+}  // namespace
+
+void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
+                                       const NeighborSearch& search, const PackedPoint* predicted,
+                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                       Float3Array& velocity, std::size_t begin, std::size_t end) {
+    if (search.neighbors(begin).wide)
+        viscosityAndVorticityRange<true>(c, viscosity, search, predicted, velocityDensity,
+                                         vorticity, velocity, begin, end);
+    else
+        viscosityAndVorticityRange<false>(c, viscosity, search, predicted, velocityDensity,
+                                          vorticity, velocity, begin, end);
+}
+
 void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon, float dt,
                                const NeighborSearch& search, const Float3Array& predicted,
                                const Float3Array& vorticity, const float* density,
@@ -439,7 +463,9 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
             const Vec3 omegaI = vorticity.get(i);
             const float magnitudeI = length(omegaI);
             Vec3 eta{};  // gradient of |omega| (SPH difference form)
-            for (const std::uint32_t j : search.neighbors(i)) {
+            const NeighborList nbrs = search.neighbors(i);
+            for (std::size_t k = 0; k < nbrs.size(); ++k) {
+                const std::uint32_t j = nbrs[k];
                 const Vec3 rij = xi - predicted.get(j);
                 const float r = length(rij);
                 const float volumeJ = c.particleMass / density[j];

@@ -20,6 +20,18 @@ pbf::ParticleStore runSteps(int threads, int steps) {
     return sim.particles();
 }
 
+// The same steps with the solver alone, its neighbour lists compact (16-bit)
+// or forced wide (32-bit).
+pbf::ParticleStore runSolver(std::uint32_t compactListSpan, int steps) {
+    const pbf::Scene scene = pbf::loadScene(
+        pbf::test::scenePath("dam_break.json"),
+        {pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05")});
+    pbf::ParticleStore particles = pbf::createParticles(scene);
+    pbf::Solver solver(scene.simulation, nullptr, compactListSpan);
+    for (int k = 0; k < steps; ++k) solver.step(particles, 1.0f / 240.0f);
+    return particles;
+}
+
 bool bitEqual(const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
@@ -42,6 +54,19 @@ TEST(Determinism, OneAndTwoThreadsGiveIdenticalBits) {
               pbf::createParticles(pbf::loadScene(pbf::test::scenePath("dam_break.json"),
                                                   {pbf::parseOverride("particle_radius=0.02")}))
                   .position.x);
+}
+
+TEST(Determinism, CompactAndWideNeighbourListsGiveIdenticalBits) {
+    // Same neighbours in the same order, so the same arithmetic.
+    const pbf::ParticleStore compact = runSolver(65536, 60);
+    const pbf::ParticleStore wide = runSolver(16, 60);
+    ASSERT_EQ(compact.size(), wide.size());
+    EXPECT_EQ(compact.id, wide.id);
+    EXPECT_TRUE(bitEqual(compact.position.x, wide.position.x));
+    EXPECT_TRUE(bitEqual(compact.position.y, wide.position.y));
+    EXPECT_TRUE(bitEqual(compact.position.z, wide.position.z));
+    EXPECT_TRUE(bitEqual(compact.velocity.x, wide.velocity.x));
+    EXPECT_TRUE(bitEqual(compact.density, wide.density));
 }
 
 }  // namespace

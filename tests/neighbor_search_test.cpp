@@ -25,10 +25,13 @@ std::vector<std::uint32_t> bruteForce(const pbf::Float3Array& x, std::size_t i, 
 }
 
 // Sorts, reorders and builds lists, then compares every particle's list.
-void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float h) {
+// Counts the blocks whose lists are compact into `compactBlocks`.
+void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float h,
+                             std::uint32_t compactSpan = 65536,
+                             std::size_t* compactBlocks = nullptr) {
     pbf::ParticleStore p;
     for (const Vec3& x : points) p.add(x, {}, 1000.0f);
-    pbf::NeighborSearch search(domain, h);
+    pbf::NeighborSearch search(domain, h, pbf::kMaxGridCells, compactSpan);
     std::vector<std::uint32_t> perm;
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);
@@ -39,13 +42,15 @@ void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float
     search.buildNeighborLists(p.predicted);
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const auto span = search.neighbors(i);
-        std::vector<std::uint32_t> found(span.begin(), span.end());
+        const pbf::NeighborList list = search.neighbors(i);
+        std::vector<std::uint32_t> found;
+        for (std::size_t k = 0; k < list.size(); ++k) found.push_back(list[k]);
         std::sort(found.begin(), found.end());
         ASSERT_EQ(found, bruteForce(p.predicted, i, h)) << "particle " << i;
         pairs += found.size();
     }
     EXPECT_EQ(pairs, search.totalNeighborCount());
+    if (compactBlocks) *compactBlocks = search.compactBlockCount();
 }
 
 const Aabb kUnitBox{{0, 0, 0}, {1, 1, 1}};
@@ -87,6 +92,20 @@ TEST(NeighborSearch, PointsOutsideTheGrid) {
     for (int k = 0; k < 20; ++k) points.push_back({-3.0f + 0.01f * float(k), 5.0f, 0.5f});
     for (int k = 0; k < 20; ++k) points.push_back({4.0f, -2.0f + 0.01f * float(k), -7.0f});
     expectMatchesBruteForce(points, kUnitBox, 0.08f);
+}
+
+TEST(NeighborSearch, CompactAndWideListsBothMatch) {
+    // 5000 points: five blocks of lists. Normally all compact (16-bit
+    // offsets); with a tiny allowed span all wide (32-bit indices).
+    std::mt19937 rng(6);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<Vec3> points(5000);
+    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    std::size_t compact = 0;
+    expectMatchesBruteForce(points, kUnitBox, 0.07f, 65536, &compact);
+    EXPECT_EQ(compact, 5u);
+    expectMatchesBruteForce(points, kUnitBox, 0.07f, 16, &compact);
+    EXPECT_EQ(compact, 0u);
 }
 
 TEST(NeighborSearch, RefusesGridsBeyondTheCellLimit) {

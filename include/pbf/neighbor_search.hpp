@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 #include <vector>
 
@@ -29,11 +30,35 @@ namespace pbf {
 // about 0.5 GiB of cell tables. Scenes beyond it are refused when loaded.
 inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
 
+// One particle's neighbour list. Compact lists (most of them: the indices a
+// block of sorted particles reaches span fewer than 65536) store 16-bit
+// offsets from `base`; wide ones 32-bit indices. The entries after the list
+// are readable (the SIMD loops over-read).
+struct NeighborList {
+    const std::uint16_t* entries;
+    std::uint32_t count;
+    std::uint32_t base;
+    bool wide;
+
+    std::size_t size() const { return count; }
+    std::uint32_t operator[](std::size_t k) const {
+        if (wide) {
+            std::uint32_t value;
+            std::memcpy(&value, entries + 2 * k, sizeof value);
+            return value;
+        }
+        return base + entries[k];
+    }
+};
+
 class NeighborSearch {
   public:
     // Grid over `domain` with cells of edge `radius`. Throws
     // std::invalid_argument if the grid would need more than `maxCells` cells.
-    NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells = kMaxGridCells);
+    // `compactSpan` (tests only) is the widest range of indices a block's
+    // lists may span and still be stored as 16-bit offsets.
+    NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells = kMaxGridCells,
+                   std::uint32_t compactSpan = 65536);
 
     float radius() const { return radius_; }
     std::size_t cellCount() const { return cellCount_; }
@@ -47,18 +72,27 @@ class NeighborSearch {
     // Builds neighbour lists from positions already ordered by sortByCell.
     void buildNeighborLists(const Float3Array& positions);
 
-    // Indices of the particles closer than h to particle i, in increasing
-    // order. The entries after the list are readable (SIMD over-reads).
-    std::span<const std::uint32_t> neighbors(std::size_t i) const {
-        return {blockLists_[i / kListBlockSize].data() + listStart_[i], listCount_[i]};
+    // The particles closer than h to particle i, in increasing index order.
+    NeighborList neighbors(std::size_t i) const {
+        const ListBlock& block = blocks_[i / kListBlockSize];
+        return {block.entries.data() + listStart_[i], listCount_[i], block.base, block.wide};
     }
     std::size_t totalNeighborCount() const { return totalNeighbors_; }
+    // Lists are built for blocks of this many consecutive particles (the
+    // blocks of the parallel loops); one block's lists share one width.
+    static constexpr std::size_t kListBlockSize = 1024;
+    // Blocks whose lists are compact (16-bit), of all blocks.
+    std::size_t compactBlockCount() const;
+    std::size_t blockCount() const { return blockCount_; }
     // Bytes held by the grid and neighbour lists (for the benchmark's report).
     std::size_t memoryBytes() const;
 
   private:
-    // Particles per list buffer: the blocks of the parallel loops.
-    static constexpr std::size_t kListBlockSize = 1024;
+    struct ListBlock {
+        std::vector<std::uint16_t> entries;  // the block's lists, one after the other
+        std::uint32_t base = 0;              // compact entries are offsets from this index
+        bool wide = false;
+    };
 
     // Cell ranges [first, last) of the x-rows of the 27-cell stencil around
     // the cell of p, without the rows and end cells farther than h from p.
@@ -74,12 +108,14 @@ class NeighborSearch {
 
     std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
     std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
-    // Neighbour lists: those of block b's particles lie one after the other
-    // in blockLists_[b]; particle i's starts at listStart_[i].
-    std::vector<std::vector<std::uint32_t>> blockLists_;
+    // Neighbour lists, per block of particles; particle i's list starts at
+    // listStart_[i] (in 16-bit units) in its block's buffer.
+    std::uint32_t compactSpan_;
+    std::vector<ListBlock> blocks_;
+    std::size_t blockCount_ = 0;
     std::vector<std::uint32_t> listStart_;
     std::vector<std::uint32_t> listCount_;
-    std::vector<std::size_t> blockUsed_;  // entries used in each block's buffer
+    std::vector<std::size_t> blockNeighbors_;  // neighbours listed in each block
     std::size_t totalNeighbors_ = 0;
 };
 

@@ -88,8 +88,10 @@ struct StageTimes {
 class Solver {
   public:
     // `solids` (may be null) are static obstacles the particles collide with.
+    // `compactListSpan` (tests only): see NeighborSearch.
     explicit Solver(const SimulationParams& params,
-                    std::shared_ptr<const SolidSet> solids = nullptr);
+                    std::shared_ptr<const SolidSet> solids = nullptr,
+                    std::uint32_t compactListSpan = 65536);
 
     const SimulationParams& params() const { return params_; }
     const SolverConstants& constants() const { return constants_; }
