@@ -38,6 +38,7 @@ struct BenchResult {
     double stepMs = 0.0;
     double bytesPerParticle = 0.0;
     double neighborsPerParticle = 0.0;
+    double compactListShare = 0.0;  // blocks with 16-bit lists, of all
 };
 
 BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArguments& args) {
@@ -70,8 +71,10 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     result.stepMs = result.perStep.total;
     result.bytesPerParticle =
         double(particles.memoryBytes() + solver.memoryBytes()) / double(particles.size());
-    result.neighborsPerParticle =
-        double(solver.neighborSearch().totalNeighborCount()) / double(particles.size());
+    const NeighborSearch& search = solver.neighborSearch();
+    result.neighborsPerParticle = double(search.totalNeighborCount()) / double(particles.size());
+    result.compactListShare =
+        double(search.compactBlockCount()) / double(std::max<std::size_t>(1, search.blockCount()));
     return result;
 }
 
@@ -111,15 +114,15 @@ int runBench(const BenchArguments& args) {
             "{:>13.3e} {:>6.1f} {:>6.0f}\n",
             r.particles, r.stepMs, t.predict, t.gridBuild, t.reorder, t.neighborLists, t.lambda,
             t.deltaP, t.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
-        machineLines.push_back(
-            fmt::format("pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
-                        "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
-                        "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
-                        "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} "
-                        "bytes_per_particle={:.0f}",
-                        r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate,
-                        t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder,
-                        t.neighborLists, t.lambda, t.deltaP, r.bytesPerParticle));
+        machineLines.push_back(fmt::format(
+            "pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
+            "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
+            "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
+            "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} "
+            "bytes_per_particle={:.0f} compact_lists={:.2f}",
+            r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate, t.predict,
+            t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder, t.neighborLists,
+            t.lambda, t.deltaP, r.bytesPerParticle, r.compactListShare));
     }
     for (const std::string& line : machineLines) fmt::print("{}\n", line);
     return 0;
