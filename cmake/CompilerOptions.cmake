@@ -22,6 +22,10 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
 endif()
 if(PBF_NATIVE)
   target_compile_options(pbf_options INTERFACE -march=native)
+  # The SIMD loops (Highway) are compiled for the host's instruction set only
+  # and called directly. Portable builds compile them for every x86 target and
+  # choose at run time.
+  target_compile_definitions(pbf_options INTERFACE HWY_COMPILE_ONLY_STATIC=1)
 endif()
 if(PBF_SANITIZE)
   target_compile_options(pbf_options INTERFACE -fsanitize=${PBF_SANITIZE} -fno-omit-frame-pointer

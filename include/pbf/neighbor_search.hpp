@@ -26,6 +26,10 @@
 
 namespace pbf {
 
+namespace grid {
+struct GridView;
+}
+
 // Largest grid pbf builds (cells of edge h over the domain): 2^26 cells,
 // about 0.5 GiB of cell tables. Scenes beyond it are refused when loaded.
 inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
@@ -94,11 +98,8 @@ class NeighborSearch {
         bool wide = false;
     };
 
-    // Cell ranges [first, last) of the x-rows of the 27-cell stencil around
-    // the cell of p, without the rows and end cells farther than h from p.
-    template <class Visit>
-    void forEachStencilRange(const Vec3& p, Visit&& visit) const;
-    std::uint32_t cellCoord(float value, float origin, std::uint32_t count) const;
+    // The grid as plain data for the stencil code (src/grid_stencil.hpp).
+    grid::GridView gridView() const;
 
     Aabb domain_;
     float radius_;
