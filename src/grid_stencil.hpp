@@ -20,12 +20,13 @@ struct GridView {
     const std::uint32_t* cellStart;  // particles of cell c: [cellStart[c], cellStart[c + 1])
 
     // Cell coordinate of `value` along an axis, clamped into the grid (also
-    // catches NaN via the comparisons' false branch).
+    // catches NaN via the comparisons' false branch). For t > 0 truncation
+    // is floor, so no libm call in builds without SSE4.1's round.
     std::uint32_t coordinate(float value, float origin, std::uint32_t count) const {
-        const float c = std::floor((value - origin) * inverseCell);
-        if (!(c > 0.0f)) return 0;
-        if (c >= float(count - 1)) return count - 1;
-        return static_cast<std::uint32_t>(c);
+        const float t = (value - origin) * inverseCell;
+        if (!(t > 0.0f)) return 0;
+        if (t >= float(count - 1)) return count - 1;
+        return static_cast<std::uint32_t>(t);
     }
 
     std::uint32_t cellIndexOf(const Vec3& p) const {
