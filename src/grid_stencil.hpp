@@ -38,9 +38,12 @@ struct GridView {
 // Calls visit(first, last) for the particle ranges of the x-rows of the
 // 27-cell stencil around p's cell (cells along x are adjacent in memory), in
 // increasing index order, without the rows and end cells farther than h
-// from p.
+// from p. Always inlined: in portable builds the caller is a SIMD kernel
+// compiled for a wider instruction set, and GCC would otherwise keep this
+// walk (and the kernel's `visit`) as calls.
 template <class Visit>
-void forEachStencilRow(const GridView& g, const Vec3& p, Visit&& visit) {
+[[gnu::always_inline]] inline void forEachStencilRow(const GridView& g, const Vec3& p,
+                                                     Visit&& visit) {
     const std::uint32_t cx = g.coordinate(p.x, g.domain.min.x, g.nx);
     const std::uint32_t cy = g.coordinate(p.y, g.domain.min.y, g.ny);
     const std::uint32_t cz = g.coordinate(p.z, g.domain.min.z, g.nz);

@@ -29,6 +29,7 @@ struct RowTest {
     float xi, yi, zi, r2max;
     FloatVec vxi, vyi, vzi, vr2max;
     IntVec self;
+    IntVec laneIndex;  // 0, 1, 2, ...: built once (Iota goes through memory on some targets)
 
     HWY_INLINE RowTest(const ListJob& job, std::size_t particle)
         : px(job.px),
@@ -46,6 +47,7 @@ struct RowTest {
         vzi = hn::Set(d, zi);
         vr2max = hn::Set(d, r2max);
         self = hn::Set(IntTag{}, static_cast<std::int32_t>(i));
+        laneIndex = hn::Iota(IntTag{}, 0);
     }
 };
 
@@ -71,7 +73,7 @@ HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t base, std::uin
         const FloatVec dz = hn::Sub(t.vzi, hn::LoadU(d, t.pz + j));
         const FloatVec r2 = hn::MulAdd(dx, dx, hn::MulAdd(dy, dy, hn::Mul(dz, dz)));
         const FloatMask close = hn::And(hn::FirstN(d, last - j), hn::Lt(r2, t.vr2max));
-        const IntVec index = hn::Iota(di, static_cast<std::int32_t>(j));
+        const IntVec index = hn::Add(hn::Set(di, static_cast<std::int32_t>(j)), t.laneIndex);
         const auto take = hn::AndNot(hn::Eq(index, t.self), hn::RebindMask(di, close));
         const IntVec taken = hn::Compress(index, take);
         if constexpr (Wide) {
