@@ -16,13 +16,30 @@ inline Vec3 clampToBox(const Aabb& box, const Vec3& p) {
             std::clamp(p.z, box.min.z, box.max.z)};
 }
 
+// The out-of-line parts of the two functions below.
+void addNearWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
+                             Vec3& gradient);
+void addNearSolidContribution(const SolverConstants& c, const SolidSet& solids, const Vec3& x,
+                              float& kernelSum, Vec3& gradient);
+
 // Adds the walls of the domain box within reach of x: their kernel sum and
 // the gradient of that sum with respect to x (pointing into the walls).
-void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum, Vec3& gradient);
+// Inline test first: most particles are out of every wall's reach.
+inline void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
+                                Vec3& gradient) {
+    const float reach = c.wall.range;
+    const Aabb& d = c.domain;
+    if (x.x - d.min.x >= reach && d.max.x - x.x >= reach && x.y - d.min.y >= reach &&
+        d.max.y - x.y >= reach && x.z - d.min.z >= reach && d.max.z - x.z >= reach)
+        return;
+    addNearWallContribution(c, x, kernelSum, gradient);
+}
 
 // The nearest solid within reach adds the flat-wall density at its signed
 // distance, and its gradient along the surface normal (into the solid).
-void addSolidContribution(const SolverConstants& c, const SolidSet* solids, const Vec3& x,
-                          float& kernelSum, Vec3& gradient);
+inline void addSolidContribution(const SolverConstants& c, const SolidSet* solids, const Vec3& x,
+                                 float& kernelSum, Vec3& gradient) {
+    if (solids) addNearSolidContribution(c, *solids, x, kernelSum, gradient);
+}
 
 }  // namespace pbf::stages

@@ -19,8 +19,8 @@ void sampleWallTable(const WallTable& w, float distance, float& kernel, float& g
 
 }  // namespace
 
-void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
-                         Vec3& gradient) {
+void addNearWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
+                             Vec3& gradient) {
     const WallTable& w = c.wall;
     auto add = [&](float distance, float Vec3::*axis, float outward) {
         if (!(distance < w.range)) return;
@@ -37,11 +37,10 @@ void addWallContribution(const SolverConstants& c, const Vec3& x, float& kernelS
     add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
 }
 
-void addSolidContribution(const SolverConstants& c, const SolidSet* solids, const Vec3& x,
-                          float& kernelSum, Vec3& gradient) {
-    if (!solids) return;
+void addNearSolidContribution(const SolverConstants& c, const SolidSet& solids, const Vec3& x,
+                              float& kernelSum, Vec3& gradient) {
     Vec3 normal;
-    const float distance = solids->signedDistance(x, c.wall.range, normal);
+    const float distance = solids.signedDistance(x, c.wall.range, normal);
     if (!(distance < c.wall.range)) return;
     float kernel = 0.0f, slope = 0.0f;
     sampleWallTable(c.wall, distance, kernel, slope);
