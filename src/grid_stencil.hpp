@@ -12,11 +12,19 @@
 
 namespace pbf::grid {
 
+// Cells are numbered with the axes ordered by the domain's extent: the
+// shortest axis varies fastest (stencil rows run along it and are contiguous
+// in memory), the longest slowest. A particle's neighbours then lie within
+// one slab of the two shorter axes' cells, the smallest the domain allows:
+// that keeps the neighbour passes' reads in cache and the blocks' lists
+// compact. (For the dam break, 1.6 x 1.0 x 0.4 m, a slab of the x-major
+// order holds a quarter of the cells of the z-major one.)
 struct GridView {
     Aabb domain;
     float cell;  // edge of a cell: the kernel radius h
     float inverseCell;
-    std::uint32_t nx, ny, nz;
+    int axis[3];                     // axis[0] fastest (rows), axis[2] slowest
+    std::uint32_t n[3];              // cells along axis[k]
     const std::uint32_t* cellStart;  // particles of cell c: [cellStart[c], cellStart[c + 1])
 
     // Cell coordinate of `value` along an axis, clamped into the grid (also
@@ -28,15 +36,18 @@ struct GridView {
         if (t >= float(count - 1)) return count - 1;
         return static_cast<std::uint32_t>(t);
     }
+    // Coordinate along axis[k].
+    std::uint32_t coordinate(const Vec3& p, int k) const {
+        return coordinate(p[axis[k]], domain.min[axis[k]], n[k]);
+    }
 
     std::uint32_t cellIndexOf(const Vec3& p) const {
-        return coordinate(p.x, domain.min.x, nx) +
-               nx * (coordinate(p.y, domain.min.y, ny) + ny * coordinate(p.z, domain.min.z, nz));
+        return coordinate(p, 0) + n[0] * (coordinate(p, 1) + n[1] * coordinate(p, 2));
     }
 };
 
-// Calls visit(first, last) for the particle ranges of the x-rows of the
-// 27-cell stencil around p's cell (cells along x are adjacent in memory), in
+// Calls visit(first, last) for the particle ranges of the rows (along
+// axis[0], adjacent in memory) of the 27-cell stencil around p's cell, in
 // increasing index order, without the rows and end cells farther than h
 // from p. Always inlined: in portable builds the caller is a SIMD kernel
 // compiled for a wider instruction set, and GCC would otherwise keep this
@@ -44,38 +55,39 @@ struct GridView {
 template <class Visit>
 [[gnu::always_inline]] inline void forEachStencilRow(const GridView& g, const Vec3& p,
                                                      Visit&& visit) {
-    const std::uint32_t cx = g.coordinate(p.x, g.domain.min.x, g.nx);
-    const std::uint32_t cy = g.coordinate(p.y, g.domain.min.y, g.ny);
-    const std::uint32_t cz = g.coordinate(p.z, g.domain.min.z, g.nz);
+    const std::uint32_t c0 = g.coordinate(p, 0);
+    const std::uint32_t c1 = g.coordinate(p, 1);
+    const std::uint32_t c2 = g.coordinate(p, 2);
     // Distances from p to the lower and upper faces of its cell, clamped into
     // the cell (for points outside the grid this underestimates the distance
     // to the rows, so nothing closer than h is dropped).
     const float cell = g.cell;
-    auto faces = [cell](float value, float origin, std::uint32_t c, float& lower, float& upper) {
-        lower = std::clamp(value - origin - float(c) * cell, 0.0f, cell);
+    auto faces = [&](int k, std::uint32_t c, float& lower, float& upper) {
+        const int a = g.axis[k];
+        lower = std::clamp(p[a] - g.domain.min[a] - float(c) * cell, 0.0f, cell);
         upper = cell - lower;
     };
-    float lx, ux, ly, uy, lz, uz;
-    faces(p.x, g.domain.min.x, cx, lx, ux);
-    faces(p.y, g.domain.min.y, cy, ly, uy);
-    faces(p.z, g.domain.min.z, cz, lz, uz);
+    float l0, u0, l1, u1, l2, u2;
+    faces(0, c0, l0, u0);
+    faces(1, c1, l1, u1);
+    faces(2, c2, l2, u2);
     // Rows (or their end cells) farther than h from p hold no neighbour: skip
     // them. The margin keeps rounding from dropping a particle at r ~ h.
     const float reach2 = cell * cell * (1.0f + 1e-4f);
-    const std::uint32_t z0 = cz > 0 ? cz - 1 : 0;
-    const std::uint32_t z1 = std::min(cz + 1, g.nz - 1);
-    const std::uint32_t y0 = cy > 0 ? cy - 1 : 0;
-    const std::uint32_t y1 = std::min(cy + 1, g.ny - 1);
-    for (std::uint32_t z = z0; z <= z1; ++z) {
-        const float dz = z < cz ? lz : (z > cz ? uz : 0.0f);
-        for (std::uint32_t y = y0; y <= y1; ++y) {
-            const float dy = y < cy ? ly : (y > cy ? uy : 0.0f);
-            const float left = reach2 - dy * dy - dz * dz;  // squared x reach left over
+    const std::uint32_t slow0 = c2 > 0 ? c2 - 1 : 0;
+    const std::uint32_t slow1 = std::min(c2 + 1, g.n[2] - 1);
+    const std::uint32_t mid0 = c1 > 0 ? c1 - 1 : 0;
+    const std::uint32_t mid1 = std::min(c1 + 1, g.n[1] - 1);
+    for (std::uint32_t s = slow0; s <= slow1; ++s) {
+        const float ds = s < c2 ? l2 : (s > c2 ? u2 : 0.0f);
+        for (std::uint32_t m = mid0; m <= mid1; ++m) {
+            const float dm = m < c1 ? l1 : (m > c1 ? u1 : 0.0f);
+            const float left = reach2 - dm * dm - ds * ds;  // squared reach left along the row
             if (left <= 0.0f) continue;
-            const std::uint32_t x0 = cx > 0 && lx * lx < left ? cx - 1 : cx;
-            const std::uint32_t x1 = cx + 1 < g.nx && ux * ux < left ? cx + 1 : cx;
-            const std::size_t row = std::size_t{g.nx} * (y + std::size_t{g.ny} * z);
-            visit(g.cellStart[row + x0], g.cellStart[row + x1 + 1]);
+            const std::uint32_t first = c0 > 0 && l0 * l0 < left ? c0 - 1 : c0;
+            const std::uint32_t last = c0 + 1 < g.n[0] && u0 * u0 < left ? c0 + 1 : c0;
+            const std::size_t row = std::size_t{g.n[0]} * (m + std::size_t{g.n[1]} * s);
+            visit(g.cellStart[row + first], g.cellStart[row + last + 1]);
         }
     }
 }

@@ -35,15 +35,21 @@ NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t max
             "the domain is " + std::to_string(static_cast<long long>(cells)) +
             " grid cells of the kernel radius, more than the limit of " + std::to_string(maxCells) +
             "; use a smaller domain or larger particles");
-    nx_ = cellsAlong(e.x, radius);
-    ny_ = cellsAlong(e.y, radius);
-    nz_ = cellsAlong(e.z, radius);
-    cellCount_ = std::size_t{nx_} * ny_ * nz_;
+    // Axes from the shortest extent (fastest, rows) to the longest (see
+    // grid_stencil.hpp); ties keep x, y, z order.
+    std::stable_sort(axis_, axis_ + 3, [&e](int a, int b) { return e[a] < e[b]; });
+    for (int k = 0; k < 3; ++k) cells_[k] = cellsAlong(e[axis_[k]], radius);
+    cellCount_ = std::size_t{cells_[0]} * cells_[1] * cells_[2];
     cellStart_.assign(cellCount_ + 1, 0);
 }
 
 grid::GridView NeighborSearch::gridView() const {
-    return {domain_, radius_, inverseCell_, nx_, ny_, nz_, cellStart_.data()};
+    return {domain_,
+            radius_,
+            inverseCell_,
+            {axis_[0], axis_[1], axis_[2]},
+            {cells_[0], cells_[1], cells_[2]},
+            cellStart_.data()};
 }
 
 std::uint32_t NeighborSearch::cellIndexOf(const Vec3& p) const {
@@ -89,9 +95,9 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         ListBlock& block = blocks_[begin / kListBlockSize];
         // The stencils of the block's cells (sorted: from the first
-        // particle's to the last one's) lie within one z-slab and row of
-        // them, so its lists index [lowest, highest).
-        const std::size_t reach = std::size_t{nx_} * ny_ + nx_ + 1;
+        // particle's to the last one's) reach one slab and one row of cells
+        // beyond them, so its lists index [lowest, highest).
+        const std::size_t reach = std::size_t{cells_[0]} * cells_[1] + cells_[0] + 1;
         const std::size_t firstCell = cellIndexOf(positions.get(begin));
         const std::size_t lastCell = cellIndexOf(positions.get(end - 1));
         const std::uint32_t lowest = cellStart_[firstCell > reach ? firstCell - reach : 0];

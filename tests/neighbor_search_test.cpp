@@ -94,6 +94,23 @@ TEST(NeighborSearch, PointsOutsideTheGrid) {
     expectMatchesBruteForce(points, kUnitBox, 0.08f);
 }
 
+TEST(NeighborSearch, ElongatedDomainsMatch) {
+    // Cells are numbered shortest axis fastest, longest slowest: every
+    // ordering of the axes, with points inside and outside the grid.
+    std::mt19937 rng(8);
+    const Aabb boxes[] = {{{0, 0, 0}, {1.0f, 0.3f, 0.6f}},
+                          {{-1, 0, 2}, {-0.4f, 1.2f, 2.3f}},
+                          {{0, 0, 0}, {0.25f, 0.5f, 1.0f}}};
+    for (const Aabb& box : boxes) {
+        const Vec3 e = box.extent();
+        std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+        std::vector<Vec3> points(2500);
+        for (Vec3& x : points)
+            x = {box.min.x + u(rng) * e.x, box.min.y + u(rng) * e.y, box.min.z + u(rng) * e.z};
+        expectMatchesBruteForce(points, box, 0.06f);
+    }
+}
+
 TEST(NeighborSearch, CompactAndWideListsBothMatch) {
     // 5000 points: five blocks of lists. Normally all compact (16-bit
     // offsets); with a tiny allowed span all wide (32-bit indices).

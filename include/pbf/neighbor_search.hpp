@@ -6,8 +6,10 @@
 // the contiguous range [cellStart(c), cellStart(c + 1)), and
 // `buildNeighborLists` collects, for every particle, the indices of all
 // others closer than h (SIMD distance tests) into per-block lists that all
-// solver iterations reuse. Cells along x are adjacent in memory, so the 27-cell stencil is
-// read as 9 contiguous ranges.
+// solver iterations reuse. Cells are numbered with the domain's shortest
+// axis varying fastest and its longest slowest (src/grid_stencil.hpp): rows
+// along the shortest axis are adjacent in memory, so the 27-cell stencil is
+// read as at most 9 contiguous ranges, and neighbours are near in memory.
 //
 // Positions outside the grid are clamped to its border cells. Clamping is
 // monotone and never moves two points further apart in cell coordinates, so
@@ -104,7 +106,8 @@ class NeighborSearch {
     Aabb domain_;
     float radius_;
     float inverseCell_;
-    std::uint32_t nx_, ny_, nz_;
+    int axis_[3] = {0, 1, 2};  // fastest to slowest varying in the cell index
+    std::uint32_t cells_[3];   // cells along axis_[k]
     std::size_t cellCount_;
 
     std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
