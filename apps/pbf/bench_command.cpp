@@ -25,7 +25,7 @@ namespace {
 
 struct BenchArguments {
     std::string scene;
-    std::vector<std::size_t> sizes{16000, 128000, 512000};
+    std::vector<std::size_t> sizes{16000, 30000, 128000, 1000000};
     int steps = 20;
     int warmup = 5;
     int iterations = 4;
@@ -132,7 +132,7 @@ int runBench(const BenchArguments& args) {
 
 std::function<int()> addBenchCommand(CLI::App& app) {
     auto args = std::make_shared<BenchArguments>();
-    auto sizes = std::make_shared<std::string>("16k,128k,512k");
+    auto sizes = std::make_shared<std::string>("16k,30k,128k,1M");
     args->scene = defaultScenePath("dam_break.json");
     CLI::App* bench = app.add_subcommand(
         "bench", "Measure solver throughput (particle-steps per second) on the dam break");
