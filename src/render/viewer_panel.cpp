@@ -64,7 +64,10 @@ void drawStatistics(const PanelState& state, const SimulationWorker& worker, con
     ImGui::Text("substeps         %d", r.substeps);
     ImGui::Text("  predict        %.2f ms", r.stageMs.predict);
     ImGui::Text("  neighbours     %.2f ms", r.stageMs.neighborSearch);
+    ImGui::Text("    grid %.2f, reorder %.2f, lists %.2f", r.stageMs.gridBuild, r.stageMs.reorder,
+                r.stageMs.neighborLists);
     ImGui::Text("  solve          %.2f ms", r.stageMs.solve);
+    ImGui::Text("    lambda %.2f, delta-p %.2f", r.stageMs.lambda, r.stageMs.deltaP);
     ImGui::Text("  post-process   %.2f ms", r.stageMs.postProcess);
     ImGui::Text("density error    avg %.2f %%, max %.2f %%", 100.0 * r.state.averageDensityError,
                 100.0 * r.state.maxDensityError);
