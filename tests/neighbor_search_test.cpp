@@ -24,6 +24,17 @@ std::vector<std::uint32_t> bruteForce(const pbf::Float3Array& x, std::size_t i, 
     return result;
 }
 
+// `count` points uniform in [lo, hi] of each axis of `box` (as fractions of its extent).
+std::vector<Vec3> randomPoints(std::mt19937& rng, std::size_t count, const Aabb& box, float lo,
+                               float hi) {
+    std::uniform_real_distribution<float> u(lo, hi);
+    const Vec3 e = box.extent();
+    std::vector<Vec3> points(count);
+    for (Vec3& x : points)
+        x = {box.min.x + u(rng) * e.x, box.min.y + u(rng) * e.y, box.min.z + u(rng) * e.z};
+    return points;
+}
+
 // Sorts, reorders and builds lists, then compares every particle's list.
 // Counts the blocks whose lists are compact into `compactBlocks`.
 void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float h,
@@ -57,17 +68,13 @@ const Aabb kUnitBox{{0, 0, 0}, {1, 1, 1}};
 
 TEST(NeighborSearch, RandomPoints) {
     std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<Vec3> points(3000);
-    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    std::vector<Vec3> points = randomPoints(rng, 3000, kUnitBox, 0.0f, 1.0f);
     expectMatchesBruteForce(points, kUnitBox, 0.07f);
 }
 
 TEST(NeighborSearch, AllInOneCell) {
     std::mt19937 rng(4);
-    std::uniform_real_distribution<float> u(0.50f, 0.55f);
-    std::vector<Vec3> points(500);
-    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    std::vector<Vec3> points = randomPoints(rng, 500, kUnitBox, 0.50f, 0.55f);
     expectMatchesBruteForce(points, kUnitBox, 0.1f);
 }
 
@@ -85,9 +92,7 @@ TEST(NeighborSearch, PointsOnCellBorders) {
 
 TEST(NeighborSearch, PointsOutsideTheGrid) {
     std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(-0.5f, 1.5f);
-    std::vector<Vec3> points(2000);
-    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    std::vector<Vec3> points = randomPoints(rng, 2000, kUnitBox, -0.5f, 1.5f);
     // Clusters far outside on opposite sides must still see each other only.
     for (int k = 0; k < 20; ++k) points.push_back({-3.0f + 0.01f * float(k), 5.0f, 0.5f});
     for (int k = 0; k < 20; ++k) points.push_back({4.0f, -2.0f + 0.01f * float(k), -7.0f});
@@ -102,12 +107,7 @@ TEST(NeighborSearch, ElongatedDomainsMatch) {
                           {{-1, 0, 2}, {-0.4f, 1.2f, 2.3f}},
                           {{0, 0, 0}, {0.25f, 0.5f, 1.0f}}};
     for (const Aabb& box : boxes) {
-        const Vec3 e = box.extent();
-        std::uniform_real_distribution<float> u(-0.1f, 1.1f);
-        std::vector<Vec3> points(2500);
-        for (Vec3& x : points)
-            x = {box.min.x + u(rng) * e.x, box.min.y + u(rng) * e.y, box.min.z + u(rng) * e.z};
-        expectMatchesBruteForce(points, box, 0.06f);
+        expectMatchesBruteForce(randomPoints(rng, 2500, box, -0.1f, 1.1f), box, 0.06f);
     }
 }
 
@@ -115,9 +115,7 @@ TEST(NeighborSearch, CompactAndWideListsBothMatch) {
     // 5000 points: five blocks of lists. Normally all compact (16-bit
     // offsets); with a tiny allowed span all wide (32-bit indices).
     std::mt19937 rng(6);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::vector<Vec3> points(5000);
-    for (Vec3& x : points) x = {u(rng), u(rng), u(rng)};
+    std::vector<Vec3> points = randomPoints(rng, 5000, kUnitBox, 0.0f, 1.0f);
     std::size_t compact = 0;
     expectMatchesBruteForce(points, kUnitBox, 0.07f, 65536, &compact);
     EXPECT_EQ(compact, 5u);

@@ -40,11 +40,30 @@ namespace {
 using detail::ParticleList;
 using IndexGrid = openvdb::tools::PointIndexGrid;
 
+using PointIterator = openvdb::tools::PointIndexIterator<IndexGrid::TreeType>;
+
 // Search structure over the particles with cells of edge `cell`.
 struct PointSearch {
     PointSearch(const ParticleList& list, double cell)
         : transform(openvdb::math::Transform::createLinearTransform(cell)),
           grid(openvdb::tools::createPointIndexGrid<IndexGrid>(list, *transform)) {}
+
+    // Calls visit(i, it) for every particle i of `list`, in parallel, with
+    // `it` over the particles within `radius` of it (i included).
+    template <class Visit>
+    void forEachNear(const ParticleList& list, double radius, Visit&& visit) const {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.size()), [&](const auto& range) {
+            auto accessor = grid->getConstAccessor();
+            PointIterator it;
+            openvdb::Vec3R p;
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                list.getPos(i, p);
+                it.worldSpaceSearchAndUpdate(p, radius, accessor, list, *transform);
+                visit(i, it);
+            }
+        });
+    }
+
     openvdb::math::Transform::Ptr transform;
     IndexGrid::Ptr grid;
 };
@@ -53,15 +72,8 @@ struct PointSearch {
 std::vector<int> countNeighbors(const ParticleList& list, double radius) {
     const PointSearch search(list, radius);
     std::vector<int> counts(list.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.size()), [&](const auto& range) {
-        auto accessor = search.grid->getConstAccessor();
-        openvdb::tools::PointIndexIterator<IndexGrid::TreeType> it;
-        openvdb::Vec3R p;
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            list.getPos(i, p);
-            it.worldSpaceSearchAndUpdate(p, radius, accessor, list, *search.transform);
-            counts[i] = static_cast<int>(it.size()) - 1;  // minus the particle itself
-        }
+    search.forEachNear(list, radius, [&](std::size_t i, const PointIterator& it) {
+        counts[i] = static_cast<int>(it.size()) - 1;  // minus the particle itself
     });
     return counts;
 }
@@ -233,23 +245,15 @@ float estimateParticleRadius(std::span<const Vec3> positions) {
     for (int attempt = 0; attempt < 30; ++attempt, radius *= 2.0) {
         const PointSearch search(list, radius);
         std::vector<float> nearest(positions.size(), -1.0f);
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, positions.size()), [&](const auto& range) {
-                auto accessor = search.grid->getConstAccessor();
-                openvdb::tools::PointIndexIterator<IndexGrid::TreeType> it;
-                openvdb::Vec3R p;
-                for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                    list.getPos(i, p);
-                    it.worldSpaceSearchAndUpdate(p, radius, accessor, list, *search.transform);
-                    float best = -1.0f;
-                    for (; it; ++it) {
-                        if (*it == i) continue;
-                        const float d = length(positions[*it] - positions[i]);
-                        if (d > 0.0f && (best < 0.0f || d < best)) best = d;
-                    }
-                    nearest[i] = best;
-                }
-            });
+        search.forEachNear(list, radius, [&](std::size_t i, PointIterator& it) {
+            float best = -1.0f;
+            for (; it; ++it) {
+                if (*it == i) continue;
+                const float d = length(positions[*it] - positions[i]);
+                if (d > 0.0f && (best < 0.0f || d < best)) best = d;
+            }
+            nearest[i] = best;
+        });
         std::erase_if(nearest, [](float d) { return d < 0.0f; });
         // Most particles must see a neighbour, or the median describes spray.
         if (nearest.size() * 2 < positions.size()) continue;
