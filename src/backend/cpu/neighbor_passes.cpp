@@ -1,0 +1,402 @@
+// The SIMD neighbour passes of the solver (density + lambda, position
+// correction, XSPH + vorticity), compiled once per instruction set target by
+// Highway's foreach_target (see simd-inl.h) and called through Highway's
+// dispatch: the host's target in native builds, the best one the CPU has in
+// portable builds.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "backend/cpu/neighbor_passes.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+
+#include "backend/cpu/simd-inl.h"
+#include "backend/cpu/solver_boundary.hpp"
+#include "backend/cpu/solver_stages.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace pbf::stages::HWY_NAMESPACE {
+
+namespace hn = hwy::HWY_NAMESPACE;
+using namespace pbf::simd::HWY_NAMESPACE;
+
+// Per-lane geometry of a batch of neighbours j of particle i.
+struct PairBatch {
+    FloatVec dx, dy, dz;  // x_i - x_j
+    FloatVec w;           // the fourth float of j's packed record
+    FloatVec r2;
+    FloatMask inside;  // 0 < r < h and a real list entry
+    FloatVec inverseR;
+};
+
+struct PairConstants {
+    FloatVec h, h2, tiny;
+};
+
+PairConstants pairConstants(float h, float h2) {
+    const FloatTag d;
+    return {hn::Set(d, h), hn::Set(d, h2), hn::Set(d, 1e-30f)};
+}
+
+// `records` are the packed points offset by the list's base index.
+template <bool Wide>
+HWY_INLINE PairBatch loadPairs(const PairConstants& k, const PackedPoint* records, FloatVec xi,
+                               FloatVec yi, FloatVec zi, const NeighborList& list,
+                               std::size_t first) {
+    const FloatTag d;
+    PairBatch b;
+    const FloatMask valid = hn::FirstN(d, list.count - first);
+    const Gathered4 xj = gather4<Wide>(&records[0].x, list.entries + (Wide ? 2 : 1) * first);
+    b.dx = hn::Sub(xi, xj.x);
+    b.dy = hn::Sub(yi, xj.y);
+    b.dz = hn::Sub(zi, xj.z);
+    b.w = xj.w;
+    b.r2 = hn::MulAdd(b.dx, b.dx, hn::MulAdd(b.dy, b.dy, hn::Mul(b.dz, b.dz)));
+    // Neighbours are closer than h by construction, but x* moved since the
+    // lists were built: keep the kernels' support exact.
+    b.inside = hn::And(valid, hn::And(hn::Lt(b.r2, k.h2), hn::Gt(b.r2, hn::Zero(d))));
+    b.inverseR = reciprocalSqrt(hn::Max(b.r2, k.tiny));
+    return b;
+}
+
+// (h^2 - r^2)^3, zero outside the support: poly6 / its coefficient.
+HWY_INLINE FloatVec poly6Shape(const PairConstants& k, const PairBatch& b) {
+    const FloatVec d2 = hn::Sub(k.h2, b.r2);
+    return hn::IfThenElseZero(b.inside, hn::Mul(hn::Mul(d2, d2), d2));
+}
+
+// (h - r)^2 / r, zero outside the support: |grad spiky| / (r coefficient).
+// grad_i W_ij = spiky coefficient * this * (x_i - x_j).
+HWY_INLINE FloatVec spikyShapeOverR(const PairConstants& k, const PairBatch& b, FloatVec& squared) {
+    const FloatVec dd = hn::Sub(k.h, hn::Mul(b.r2, b.inverseR));
+    squared = hn::IfThenElseZero(b.inside, hn::Mul(dd, dd));
+    return hn::Mul(squared, b.inverseR);
+}
+
+// x^E by squaring: the shortest chain of multiplications.
+template <int E>
+HWY_INLINE FloatVec integerPower(FloatVec x) {
+    if constexpr (E == 1) {
+        return x;
+    } else if constexpr (E % 2 == 0) {
+        const FloatVec half = integerPower<E / 2>(x);
+        return hn::Mul(half, half);
+    } else {
+        return hn::Mul(x, integerPower<E - 1>(x));
+    }
+}
+
+// Runs the neighbour batches of particles i and i + 1 interleaved: one
+// particle's batches form a long dependency chain (loads, transpose, kernels,
+// accumulation, tree sums), and two independent chains in one loop keep the
+// core busier (density pass ~7 %, correction ~3 % faster). Each particle's arithmetic is the
+// same as alone, so the pairing cannot change results.
+template <class Particle, class Pass>
+HWY_INLINE void forEachParticleInterleaved(const Pass& pass, std::size_t begin, std::size_t end) {
+    const std::size_t lanes = hn::Lanes(FloatTag{});
+    std::size_t i = begin;
+    for (; i + 1 < end; i += 2) {
+        Particle a(pass, i), b(pass, i + 1);
+        const std::size_t longest = std::max(a.list.size(), b.list.size());
+        for (std::size_t first = 0; first < longest; first += lanes) {
+            if (first < a.list.size()) a.addBatch(pass, first);
+            if (first < b.list.size()) b.addBatch(pass, first);
+        }
+        a.finish(pass, i);
+        b.finish(pass, i + 1);
+    }
+    if (i < end) {
+        Particle a(pass, i);
+        for (std::size_t first = 0; first < a.list.size(); first += lanes) a.addBatch(pass, first);
+        a.finish(pass, i);
+    }
+}
+
+struct DensityPass {
+    const SolverConstants& c;
+    const SolidSet* solids;
+    const NeighborSearch& search;
+    const PackedPoint* predicted;
+    const PackedPoint* neighborRecords;  // predicted + the block's list base
+    float* density;
+    PackedPoint* withLambda;
+    PairConstants k;
+    float gradScale;  // grad C = m/rho0 grad W
+    float spiky;
+};
+
+template <bool Wide>
+struct DensityParticle {
+    FloatVec xi, yi, zi;
+    NeighborList list;
+    FloatVec kernel, gx, gy, gz, gradSquared;
+
+    HWY_INLINE DensityParticle(const DensityPass& p, std::size_t i) : list(p.search.neighbors(i)) {
+        const FloatTag d;
+        xi = hn::Set(d, p.predicted[i].x);
+        yi = hn::Set(d, p.predicted[i].y);
+        zi = hn::Set(d, p.predicted[i].z);
+        kernel = gx = gy = gz = gradSquared = hn::Zero(d);
+    }
+
+    HWY_INLINE void addBatch(const DensityPass& p, std::size_t first) {
+        const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
+        kernel = hn::Add(kernel, poly6Shape(p.k, b));
+        FloatVec dd2;
+        const FloatVec g = spikyShapeOverR(p.k, b, dd2);
+        gx = hn::MulAdd(g, b.dx, gx);
+        gy = hn::MulAdd(g, b.dy, gy);
+        gz = hn::MulAdd(g, b.dz, gz);
+        // |grad W|^2 = (coefficient (h - r)^2)^2: no division needed.
+        gradSquared = hn::MulAdd(dd2, dd2, gradSquared);
+    }
+
+    HWY_INLINE void finish(const DensityPass& p, std::size_t i) const {
+        const SolverConstants& c = p.c;
+        const Vec3 x{p.predicted[i].x, p.predicted[i].y, p.predicted[i].z};
+        float kernelSum = c.poly6.coefficient * sumOfLanes(kernel) + c.poly6.value(0.0f);
+        const float gradSquaredSum = p.spiky * p.spiky * sumOfLanes(gradSquared);
+        // The walls are fixed: they add to rho_i and to grad_i C_i, but have
+        // no gradient terms of their own.
+        Vec3 gradI = Vec3{sumOfLanes(gx), sumOfLanes(gy), sumOfLanes(gz)} * p.spiky;
+        Vec3 wallGradient{};
+        addWallContribution(c, x, kernelSum, wallGradient);
+        addSolidContribution(c, p.solids, x, kernelSum, wallGradient);
+        gradI += wallGradient * p.gradScale;
+        const float rho = c.particleMass * kernelSum;
+        p.density[i] = rho;
+        const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
+        const float lambdaI =
+            -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
+        p.withLambda[i] = {x.x, x.y, x.z, lambdaI};
+    }
+};
+
+void DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                      const NeighborSearch& search, const PackedPoint* predicted, float* density,
+                      PackedPoint* withLambda, std::size_t begin, std::size_t end) {
+    const float gradScale = c.particleMass * c.inverseRestDensity;
+    const NeighborList block = search.neighbors(begin);
+    const DensityPass pass{c,
+                           solids,
+                           search,
+                           predicted,
+                           predicted + block.base,
+                           density,
+                           withLambda,
+                           pairConstants(c.h, c.poly6.h2),
+                           gradScale,
+                           c.spiky.gradientCoefficient * gradScale};
+    if (block.wide)
+        forEachParticleInterleaved<DensityParticle<true>>(pass, begin, end);
+    else
+        forEachParticleInterleaved<DensityParticle<false>>(pass, begin, end);
+}
+
+struct CorrectionPass {
+    const SolverConstants& c;
+    const SolidSet* solids;
+    float radius;
+    const NeighborSearch& search;
+    const Float3Array& start;
+    const PackedPoint* withLambda;
+    const PackedPoint* neighborRecords;  // withLambda + the block's list base
+    PackedPoint* corrected;
+    PairConstants k;
+    FloatVec ratioScale;  // poly6 coefficient / W(dq)
+    FloatVec scorrScale;
+};
+
+// The correction for a compile-time s_corr exponent: (W/W(dq))^n as
+// straight multiplications.
+template <int Exponent, bool Wide>
+struct CorrectionParticle {
+    FloatVec xi, yi, zi, lambdaI;
+    NeighborList list;
+    FloatVec sx, sy, sz;
+
+    HWY_INLINE CorrectionParticle(const CorrectionPass& p, std::size_t i)
+        : list(p.search.neighbors(i)) {
+        const FloatTag d;
+        const PackedPoint& x = p.withLambda[i];
+        xi = hn::Set(d, x.x);
+        yi = hn::Set(d, x.y);
+        zi = hn::Set(d, x.z);
+        lambdaI = hn::Set(d, x.w);
+        sx = sy = sz = hn::Zero(d);
+    }
+
+    HWY_INLINE void addBatch(const CorrectionPass& p, std::size_t first) {
+        const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
+        // Artificial pressure (eq. 13): a small repulsion that keeps
+        // particles from clumping where the constraint is inactive.
+        const FloatVec ratio = hn::Mul(poly6Shape(p.k, b), p.ratioScale);
+        const FloatVec power = integerPower<Exponent>(ratio);
+        FloatVec dd2;
+        const FloatVec g = spikyShapeOverR(p.k, b, dd2);
+        const FloatVec lambdaSum = hn::Add(lambdaI, b.w);  // w holds lambda_j
+        const FloatVec weight = hn::Mul(g, hn::MulAdd(p.scorrScale, power, lambdaSum));
+        sx = hn::MulAdd(weight, b.dx, sx);
+        sy = hn::MulAdd(weight, b.dy, sy);
+        sz = hn::MulAdd(weight, b.dz, sz);
+    }
+
+    HWY_INLINE void finish(const CorrectionPass& p, std::size_t i) const {
+        const SolverConstants& c = p.c;
+        const PackedPoint& packed = p.withLambda[i];
+        const Vec3 x{packed.x, packed.y, packed.z};
+        const float massOverRho0 = c.particleMass * c.inverseRestDensity;
+        Vec3 dp = Vec3{sumOfLanes(sx), sumOfLanes(sy), sumOfLanes(sz)} *
+                  (massOverRho0 * c.spiky.gradientCoefficient);
+        // The walls' share of grad_i C_i (they carry no lambda of their own).
+        float unusedKernelSum = 0.0f;
+        Vec3 wallGradient{};
+        addWallContribution(c, x, unusedKernelSum, wallGradient);
+        addSolidContribution(c, p.solids, x, unusedKernelSum, wallGradient);
+        dp += wallGradient * (packed.w * massOverRho0);
+        // x* + dp, projected into the collision box and out of the solids
+        // (Alg. 1 l. 16-18).
+        Vec3 moved = clampToBox(c.collisionBox, x + dp);
+        if (p.solids) moved = resolveSolidCollision(c, *p.solids, p.radius, p.start.get(i), moved);
+        p.corrected[i] = {moved.x, moved.y, moved.z, 0.0f};
+    }
+};
+
+template <int Exponent>
+void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std::size_t end) {
+    if (pass.search.neighbors(begin).wide)
+        forEachParticleInterleaved<CorrectionParticle<Exponent, true>>(pass, begin, end);
+    else
+        forEachParticleInterleaved<CorrectionParticle<Exponent, false>>(pass, begin, end);
+}
+
+void CorrectPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+                      const NeighborSearch& search, const Float3Array& start,
+                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
+                      std::size_t end) {
+    const FloatTag d;
+    const CorrectionPass pass{c,
+                              solids,
+                              radius,
+                              search,
+                              start,
+                              withLambda,
+                              withLambda + search.neighbors(begin).base,
+                              corrected,
+                              pairConstants(c.h, c.poly6.h2),
+                              hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
+                              hn::Set(d, c.scorrScale)};
+    // One instantiation per exponent allowed by validate() (n in [1, 8]).
+    using Range = void (*)(const CorrectionPass&, std::size_t, std::size_t);
+    static constexpr Range kByExponent[] = {
+        &positionCorrectionRange<1>, &positionCorrectionRange<2>, &positionCorrectionRange<3>,
+        &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
+        &positionCorrectionRange<7>, &positionCorrectionRange<8>};
+    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](pass, begin, end);
+}
+
+template <bool Wide>
+void viscosityAndVorticityRange(const SolverConstants& c, float viscosity,
+                                const NeighborSearch& search, const PackedPoint* predicted,
+                                const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                Float3Array& velocity, std::size_t begin, std::size_t end) {
+    const std::uint32_t base = search.neighbors(begin).base;
+    const bool withVorticity = vorticity != nullptr;
+    const FloatTag d;
+    const std::size_t lanes = hn::Lanes(d);
+    const PairConstants k = pairConstants(c.h, c.poly6.h2);
+    const float mass = c.particleMass;
+    const FloatVec one = hn::Set(d, 1.0f);
+    for (std::size_t i = begin; i < end; ++i) {
+        const PackedPoint& x = predicted[i];
+        const PackedPoint& v = velocityDensity[i];
+        const FloatVec vxi = hn::Set(d, x.x), vyi = hn::Set(d, x.y), vzi = hn::Set(d, x.z);
+        const FloatVec uxi = hn::Set(d, v.x), uyi = hn::Set(d, v.y), uzi = hn::Set(d, v.z);
+        const FloatVec rhoI = hn::Set(d, v.w);
+        const NeighborList nbrs = search.neighbors(i);
+        FloatVec dvx = hn::Zero(d), dvy = hn::Zero(d), dvz = hn::Zero(d);
+        FloatVec ox = hn::Zero(d), oy = hn::Zero(d), oz = hn::Zero(d);
+        for (std::size_t first = 0; first < nbrs.size(); first += lanes) {
+            const PairBatch b = loadPairs<Wide>(k, predicted + base, vxi, vyi, vzi, nbrs, first);
+            const Gathered4 vj =
+                gather4<Wide>(&velocityDensity[base].x, nbrs.entries + (Wide ? 2 : 1) * first);
+            const FloatVec wx = hn::Sub(vj.x, uxi), wy = hn::Sub(vj.y, uyi),
+                           wz = hn::Sub(vj.z, uzi);
+            const FloatVec rhoJ = vj.w;
+            // XSPH with the symmetric volume 2 m / (rho_i + rho_j): pairwise
+            // equal and opposite, so momentum is conserved.
+            const FloatVec xsph = hn::Div(poly6Shape(k, b), hn::Add(rhoI, rhoJ));
+            dvx = hn::MulAdd(wx, xsph, dvx);
+            dvy = hn::MulAdd(wy, xsph, dvy);
+            dvz = hn::MulAdd(wz, xsph, dvz);
+            if (withVorticity) {
+                // omega_i += V_j grad_i W_ij x (v_j - v_i)
+                FloatVec dd2;
+                const FloatVec g = hn::Mul(spikyShapeOverR(k, b, dd2), hn::Div(one, rhoJ));
+                const FloatVec gx = hn::Mul(g, b.dx), gy = hn::Mul(g, b.dy), gz = hn::Mul(g, b.dz);
+                ox = hn::Add(ox, hn::Sub(hn::Mul(gy, wz), hn::Mul(gz, wy)));
+                oy = hn::Add(oy, hn::Sub(hn::Mul(gz, wx), hn::Mul(gx, wz)));
+                oz = hn::Add(oz, hn::Sub(hn::Mul(gx, wy), hn::Mul(gy, wx)));
+            }
+        }
+        const float xsphScale = 2.0f * mass * c.poly6.coefficient * viscosity;
+        const float vorticityScale = c.spiky.gradientCoefficient * mass;
+        if (withVorticity)
+            vorticity->set(i,
+                           Vec3{sumOfLanes(ox), sumOfLanes(oy), sumOfLanes(oz)} * vorticityScale);
+        // The neighbours read v from the packed copy: v_i can be updated in place.
+        const Vec3 dv = Vec3{sumOfLanes(dvx), sumOfLanes(dvy), sumOfLanes(dvz)} * xsphScale;
+        velocity.set(i, Vec3{v.x, v.y, v.z} + dv);
+    }
+}
+
+void ViscosityAndVorticity(const SolverConstants& c, float viscosity, const NeighborSearch& search,
+                           const PackedPoint* predicted, const PackedPoint* velocityDensity,
+                           Float3Array* vorticity, Float3Array& velocity, std::size_t begin,
+                           std::size_t end) {
+    if (search.neighbors(begin).wide)
+        viscosityAndVorticityRange<true>(c, viscosity, search, predicted, velocityDensity,
+                                         vorticity, velocity, begin, end);
+    else
+        viscosityAndVorticityRange<false>(c, viscosity, search, predicted, velocityDensity,
+                                          vorticity, velocity, begin, end);
+}
+
+}  // namespace pbf::stages::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace pbf::stages {
+
+HWY_EXPORT(DensityAndLambda);
+HWY_EXPORT(CorrectPositions);
+HWY_EXPORT(ViscosityAndVorticity);
+
+void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                             const NeighborSearch& search, const PackedPoint* predicted,
+                             float* density, PackedPoint* withLambda, std::size_t begin,
+                             std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(DensityAndLambda)
+    (c, solids, search, predicted, density, withLambda, begin, end);
+}
+
+void correctPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+                      const NeighborSearch& search, const Float3Array& start,
+                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
+                      std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(CorrectPositions)
+    (c, solids, radius, search, start, withLambda, corrected, begin, end);
+}
+
+void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
+                                       const NeighborSearch& search, const PackedPoint* predicted,
+                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
+                                       Float3Array& velocity, std::size_t begin, std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(ViscosityAndVorticity)
+    (c, viscosity, search, predicted, velocityDensity, vorticity, velocity, begin, end);
+}
+
+}  // namespace pbf::stages
+#endif  // HWY_ONCE

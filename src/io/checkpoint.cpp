@@ -1,0 +1,271 @@
+#include "pbf/checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <type_traits>
+
+#include "core/hash.hpp"
+#include "pbf/io.hpp"
+#include "pbf/simulation.hpp"
+#include "pbf/version.hpp"
+
+namespace pbf {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              "checkpoints assume a little-endian host");
+
+constexpr char kMagic[8] = {'P', 'B', 'F', 'C', 'K', 'P', 'T', '\n'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+constexpr std::uint64_t kMaxStringBytes = std::uint64_t{1} << 40;
+
+[[noreturn]] void fail(const std::string& name, const std::string& message) {
+    throw IoError(name + ": " + message);
+}
+
+class Writer {
+  public:
+    template <class T>
+    void value(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        bytes_.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    }
+    template <class T>
+    void array(const std::vector<T>& values) {
+        value<std::uint64_t>(values.size());
+        if (values.empty()) return;  // data() may be null
+        bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    }
+    void string(const std::string& s) {
+        value<std::uint64_t>(s.size());
+        bytes_.append(s);
+    }
+    const std::string& bytes() const { return bytes_; }
+
+  private:
+    std::string bytes_;
+};
+
+// Bounds-checked reads from the payload: a corrupt length can never make it
+// read past the end or allocate more than the file holds.
+class Reader {
+  public:
+    Reader(const std::string& bytes, const std::string& name) : bytes_(bytes), name_(name) {}
+
+    template <class T>
+    T value(const char* what) {
+        T v;
+        need(sizeof(T), what);
+        std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
+        pos_ += sizeof(T);
+        return v;
+    }
+    template <class T>
+    void array(std::vector<T>& out, const char* what) {
+        const auto n = value<std::uint64_t>(what);
+        if (n > (bytes_.size() - pos_) / sizeof(T))
+            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
+        out.resize(static_cast<std::size_t>(n));
+        if (out.empty()) return;  // memcpy must not see the null data() of an empty vector
+        std::memcpy(out.data(), bytes_.data() + pos_, out.size() * sizeof(T));
+        pos_ += out.size() * sizeof(T);
+    }
+    std::string string(const char* what) {
+        const auto n = value<std::uint64_t>(what);
+        if (n > kMaxStringBytes)
+            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
+        need(static_cast<std::size_t>(n), what);
+        std::string s = bytes_.substr(pos_, static_cast<std::size_t>(n));
+        pos_ += s.size();
+        return s;
+    }
+    bool atEnd() const { return pos_ == bytes_.size(); }
+
+  private:
+    void need(std::size_t n, const char* what) const {
+        if (n > bytes_.size() - pos_)
+            fail(name_, std::string("corrupt checkpoint: truncated at ") + what);
+    }
+    const std::string& bytes_;
+    const std::string& name_;
+    std::size_t pos_ = 0;
+};
+
+std::string serialize(const Checkpoint& c) {
+    Writer w;
+    w.value(c.sceneFingerprint);
+    w.string(c.pbfVersion);
+    w.value<std::int32_t>(c.frame);
+    w.value(c.time);
+    const ParticleStore& p = c.particles;
+    w.value<std::uint32_t>(p.nextId());
+    w.array(p.position.x);
+    w.array(p.position.y);
+    w.array(p.position.z);
+    w.array(p.velocity.x);
+    w.array(p.velocity.y);
+    w.array(p.velocity.z);
+    w.array(p.density);
+    w.array(p.id);
+    w.array(c.emitters);
+    const RunTotals& t = c.totals;
+    w.value<std::int64_t>(t.substeps);
+    w.value(t.solverMilliseconds);
+    w.value(t.wallSeconds);
+    w.value(t.densityErrorSum);
+    w.value(t.maxDensityError);
+    w.value(t.maxEscaped);
+    w.value(t.maxInsideSolid);
+    w.string(t.statsCsv);
+    return w.bytes();
+}
+
+Checkpoint deserialize(const std::string& payload, const std::string& name) {
+    Reader r(payload, name);
+    Checkpoint c;
+    c.sceneFingerprint = r.value<std::uint64_t>("scene fingerprint");
+    c.pbfVersion = r.string("pbf version");
+    c.frame = r.value<std::int32_t>("frame");
+    c.time = r.value<double>("time");
+    ParticleStore& p = c.particles;
+    const auto nextId = r.value<std::uint32_t>("next id");
+    r.array(p.position.x, "position.x");
+    r.array(p.position.y, "position.y");
+    r.array(p.position.z, "position.z");
+    r.array(p.velocity.x, "velocity.x");
+    r.array(p.velocity.y, "velocity.y");
+    r.array(p.velocity.z, "velocity.z");
+    r.array(p.density, "density");
+    r.array(p.id, "id");
+    r.array(c.emitters, "emitters");
+    RunTotals& t = c.totals;
+    t.substeps = r.value<std::int64_t>("substeps");
+    t.solverMilliseconds = r.value<double>("solver time");
+    t.wallSeconds = r.value<double>("wall time");
+    t.densityErrorSum = r.value<double>("density error sum");
+    t.maxDensityError = r.value<double>("max density error");
+    t.maxEscaped = r.value<std::uint64_t>("max escaped");
+    t.maxInsideSolid = r.value<std::uint64_t>("max inside solid");
+    t.statsCsv = r.string("stats.csv");
+    if (!r.atEnd()) fail(name, "corrupt checkpoint: trailing bytes");
+
+    // The checksum passed, so these only fail for a file written by a buggy
+    // or foreign program; still, never hand an inconsistent store to the solver.
+    const std::size_t n = p.id.size();
+    for (const std::size_t size :
+         {p.position.x.size(), p.position.y.size(), p.position.z.size(), p.velocity.x.size(),
+          p.velocity.y.size(), p.velocity.z.size(), p.density.size()})
+        if (size != n) fail(name, "corrupt checkpoint: particle arrays of different lengths");
+    if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
+        fail(name, "corrupt checkpoint: bad frame or time");
+    std::vector<std::uint32_t> ids = p.id;
+    std::sort(ids.begin(), ids.end());
+    if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() ||
+        (!ids.empty() && ids.back() >= nextId))
+        fail(name, "corrupt checkpoint: particle ids are not unique or exceed the next id");
+    p.predicted = p.position;
+    p.setNextId(nextId);
+    return c;
+}
+
+}  // namespace
+
+Checkpoint captureCheckpoint(const Simulation& simulation) {
+    Checkpoint c;
+    c.sceneFingerprint = simulation.scene().fingerprint;
+    c.pbfVersion = kVersion;
+    c.frame = simulation.frame();
+    c.time = simulation.time();
+    c.particles = simulation.particles();
+    for (const Emitter& e : simulation.emitters()) c.emitters.push_back(e.state());
+    return c;
+}
+
+void restoreCheckpoint(const Checkpoint& c, Simulation& simulation, const std::string& name) {
+    if (c.pbfVersion != kVersion)
+        fail(name,
+             fmt::format(
+                 "checkpoint written by pbf {}, this is pbf {}: solvers of different versions "
+                 "give different results; start the run again without --resume",
+                 c.pbfVersion, kVersion));
+    if (c.sceneFingerprint != simulation.scene().fingerprint)
+        fail(name,
+             fmt::format(
+                 "checkpoint belongs to a different scene (fingerprint {:016x}, this scene and "
+                 "its --set overrides give {:016x}): resume with the same scene and the same "
+                 "overrides, or start again without --resume",
+                 c.sceneFingerprint, simulation.scene().fingerprint));
+    if (c.emitters.size() != simulation.emitters().size())
+        fail(name, fmt::format("corrupt checkpoint: {} emitter states for a scene with {} emitters",
+                               c.emitters.size(), simulation.emitters().size()));
+    ParticleStore p = c.particles;
+    p.predicted = p.position;
+    simulation.restore(std::move(p), c.frame, c.time, c.emitters);
+}
+
+void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
+    const std::string payload = serialize(checkpoint);
+    const std::uint64_t size = payload.size();
+    const std::uint64_t hash = detail::fnv1a64(payload);
+    writeFileAtomically(path, [&](std::ostream& out) {
+        out.write(kMagic, sizeof(kMagic));
+        const std::uint32_t version = kCheckpointFormatVersion, reserved = 0;
+        out.write(reinterpret_cast<const char*>(&version), 4);
+        out.write(reinterpret_cast<const char*>(&reserved), 4);
+        out.write(reinterpret_cast<const char*>(&size), 8);
+        out.write(reinterpret_cast<const char*>(&hash), 8);
+        out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
+    });
+}
+
+Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
+    char header[kHeaderBytes];
+    if (!in.read(header, sizeof(header)))
+        fail(name, "not a pbf checkpoint (shorter than the checkpoint header)");
+    if (std::memcmp(header, kMagic, sizeof(kMagic)) != 0)
+        fail(name, "not a pbf checkpoint (bad magic)");
+    std::uint32_t version = 0;
+    std::uint64_t size = 0, hash = 0;
+    std::memcpy(&version, header + 8, 4);
+    std::memcpy(&size, header + 16, 8);
+    std::memcpy(&hash, header + 24, 8);
+    if (version != kCheckpointFormatVersion)
+        fail(name, fmt::format(
+                       "checkpoint format version {} is not supported (this pbf reads version {})",
+                       version, kCheckpointFormatVersion));
+    // Compare the declared size with what the stream holds before allocating.
+    const auto start = in.tellg();
+    in.seekg(0, std::ios::end);
+    const auto end = in.tellg();
+    in.seekg(start);
+    if (start < 0 || end < start) fail(name, "cannot determine the checkpoint's size");
+    const auto available = static_cast<std::uint64_t>(end - start);
+    if (size != available)
+        fail(name,
+             fmt::format("checkpoint is truncated or has trailing data ({} payload bytes declared, "
+                         "{} present)",
+                         size, available));
+    std::string payload(static_cast<std::size_t>(size), '\0');
+    if (!in.read(payload.data(), static_cast<std::streamsize>(size)))
+        fail(name, "cannot read the checkpoint");
+    if (detail::fnv1a64(payload) != hash) fail(name, "checkpoint is corrupt (checksum mismatch)");
+    return deserialize(payload, name);
+}
+
+Checkpoint readCheckpoint(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(path.string(), "cannot open checkpoint");
+    return readCheckpoint(in, path.string());
+}
+
+std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes) {
+    // Header, scalars and length prefixes (< 512 bytes), 8 arrays of 4 bytes per particle, the CSV.
+    return kHeaderBytes + 512 + std::uintmax_t{particles} * 32 + csvBytes;
+}
+
+}  // namespace pbf

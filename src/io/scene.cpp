@@ -1,0 +1,517 @@
+#include "pbf/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/hash.hpp"
+#include "io/json_reader.hpp"
+#include "pbf/emitter.hpp"
+
+namespace pbf {
+namespace {
+
+using detail::JsonReader;
+using nlohmann::json;
+
+// Particles along one axis of a block: lattice cells of edge `spacing` that fit.
+// Capped so that absurd sizes stay representable and are refused later.
+long long latticeCount(float extent, float spacing) {
+    return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
+}
+
+// nlohmann::json parses iteratively but dumps recursively (error messages
+// quote values, the fingerprint dumps the document): a scene nested 10^6
+// levels deep overflowed the stack (found by fuzz/fuzz_scene). Scenes nest
+// 4 levels; more than kMaxNesting is refused while parsing.
+constexpr int kMaxNesting = 64;
+constexpr std::size_t kMaxOverrideDepth = 16;
+
+// True when `text` nests arrays or objects deeper than kMaxNesting (the
+// parser is iterative, so checking is safe; syntax errors are left to the
+// real parse).
+bool nestedTooDeep(std::string_view text) {
+    bool tooDeep = false;
+    const json::parser_callback_t limit = [&tooDeep](int depth, json::parse_event_t, json&) {
+        if (depth > kMaxNesting) tooDeep = true;
+        return !tooDeep;  // discard what is too deep instead of building it
+    };
+    [[maybe_unused]] const json parsed =
+        json::parse(text, limit, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    return tooDeep;
+}
+
+// "key: " for the last key before the number quoted in nlohmann's message
+// "number overflow parsing '1e999'", or "" when it cannot be found.
+std::string fieldOfNumber(std::string_view text, const std::string& message) {
+    const std::size_t open = message.find('\'');
+    const std::size_t close = message.rfind('\'');
+    if (open == std::string::npos || close <= open + 1) return {};
+    const std::size_t at = text.find(message.substr(open + 1, close - open - 1));
+    if (at == std::string_view::npos) return {};
+    const std::size_t colon = text.rfind(':', at);
+    const std::size_t end = colon == std::string_view::npos ? colon : text.rfind('"', colon);
+    const std::size_t begin =
+        end == std::string_view::npos || end == 0 ? end : text.rfind('"', end - 1);
+    if (begin == std::string_view::npos || end == std::string_view::npos) return {};
+    return std::string(text.substr(begin + 1, end - begin - 1)) + ": ";
+}
+
+void applyOverride(json& document, const SceneOverride& o, const std::string& file) {
+    if (std::count(o.path.begin(), o.path.end(), '.') >=
+        static_cast<std::ptrdiff_t>(kMaxOverrideDepth))
+        throw SceneError(file + ": --set " + o.path.substr(0, 200) + ": more than " +
+                         std::to_string(kMaxOverrideDepth) + " levels of fields");
+    json* node = &document;
+    std::stringstream parts(o.path);
+    std::string part;
+    std::string walked;
+    while (std::getline(parts, part, '.')) {
+        walked += (walked.empty() ? "" : ".") + part;
+        if (part.empty()) throw SceneError(file + ": --set " + o.path + ": empty field name");
+        if (node->is_array()) {
+            std::size_t index = 0;
+            try {
+                index = std::stoul(part);
+            } catch (const std::exception&) {
+                throw SceneError(file + ": --set " + o.path + ": " + walked +
+                                 " is an array; expected an index");
+            }
+            if (index >= node->size())
+                throw SceneError(file + ": --set " + o.path + ": index " + part + " out of range");
+            node = &(*node)[index];
+        } else {
+            if (node->is_null()) *node = json::object();
+            if (!node->is_object())
+                throw SceneError(file + ": --set " + o.path + ": " + walked + " is not an object");
+            node = &(*node)[part];
+        }
+    }
+    if (nestedTooDeep(o.value))
+        throw SceneError(file + ": --set " + o.path + ": value nested deeper than " +
+                         std::to_string(kMaxNesting) + " levels");
+    // A value that is not JSON (a bare word) is taken as a string.
+    try {
+        *node = json::parse(o.value);
+    } catch (const json::exception&) {
+        *node = json(o.value);
+    }
+}
+
+Aabb readBox(JsonReader& r) {
+    const Aabb box{r.requiredVec3("min"), r.requiredVec3("max")};
+    const Vec3 e = box.extent();
+    if (!(e.x > 0 && e.y > 0 && e.z > 0)) r.fail("max", "must be greater than min on every axis");
+    return box;
+}
+
+SolverParams readSolver(JsonReader r) {
+    SolverParams s;
+    s.iterations = r.integer("iterations", s.iterations);
+    s.relaxation = r.number("relaxation", s.relaxation);
+    s.kernelRadiusFactor = r.number("kernel_radius_factor", s.kernelRadiusFactor);
+    {
+        JsonReader a = r.object("artificial_pressure");
+        s.artificialPressure.k = a.number("k", s.artificialPressure.k);
+        s.artificialPressure.n = a.integer("n", s.artificialPressure.n);
+        s.artificialPressure.dq = a.number("dq", s.artificialPressure.dq);
+        a.finish();
+    }
+    const std::string mode = r.string("time_step", "adaptive");
+    if (mode == "adaptive") {
+        s.timeStepMode = TimeStepMode::Adaptive;
+    } else if (mode == "fixed") {
+        s.timeStepMode = TimeStepMode::Fixed;
+    } else {
+        r.fail("time_step", "expected \"adaptive\" or \"fixed\", got \"" + mode + "\"");
+    }
+    s.cfl = r.number("cfl", s.cfl);
+    s.maxTimeStep = r.number("max_time_step", s.maxTimeStep);
+    s.maxSubsteps = r.integer("max_substeps", s.maxSubsteps);
+    s.fixedSubsteps = r.integer("substeps", s.fixedSubsteps);
+    s.restitution = r.number("restitution", s.restitution);
+    s.friction = r.number("friction", s.friction);
+    r.finish();
+    return s;
+}
+
+bool overlaps(const Aabb& a, const Aabb& b) {
+    return a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y &&
+           a.min.z < b.max.z && b.min.z < a.max.z;
+}
+
+void readFluidBlocks(JsonReader& root, Scene& scene) {
+    const json& blocks = root.array("fluid_blocks");
+    if (blocks.empty() && scene.emitters.empty())
+        root.fail("fluid_blocks", "at least one fluid block (or an emitter) is required");
+    const SimulationParams& sim = scene.simulation;
+    const float spacing = sim.particleSpacing();
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+        JsonReader r(blocks[i], "fluid_blocks[" + std::to_string(i) + "]", scene.source);
+        FluidBlock block{readBox(r), r.vec3("velocity", {})};
+        r.finish();
+        const Aabb& d = sim.domain;
+        if (!d.contains(block.box.min) || !d.contains(block.box.max))
+            r.fail("min", "the block must lie inside the domain");
+        const Vec3 e = block.box.extent();
+        if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
+            latticeCount(e.z, spacing) < 1)
+            r.fail("max",
+                   "the block is empty: every side must be at least one particle spacing (2 r = " +
+                       std::to_string(spacing) + " m) long");
+        for (std::size_t k = 0; k < scene.fluidBlocks.size(); ++k)
+            if (overlaps(block.box, scene.fluidBlocks[k].box))
+                r.fail("min", "overlaps fluid_blocks[" + std::to_string(k) + "]");
+        scene.fluidBlocks.push_back(block);
+    }
+}
+
+Vec3 readScale(JsonReader& r) {
+    if (!r.has("scale")) return {1, 1, 1};
+    // A number (uniform) or [sx, sy, sz].
+    try {
+        const float uniform = r.number("scale", 1.0f);
+        return {uniform, uniform, uniform};
+    } catch (const SceneError&) {
+        return r.vec3("scale", {1, 1, 1});
+    }
+}
+
+float positive(JsonReader& r, const std::string& key, float fallback, bool required = true) {
+    if (required && !r.has(key)) r.fail(key, "missing (required)");
+    const float value = r.number(key, fallback);
+    if (!(value > 0.0f)) r.fail(key, "must be positive, got " + std::to_string(value));
+    return value;
+}
+
+Vec3 direction(JsonReader& r, const std::string& key, const Vec3& fallback) {
+    const Vec3 v = r.vec3(key, fallback);
+    if (!(length(v) > 0.0f)) r.fail(key, "must be a non-zero vector");
+    return v * (1.0f / length(v));
+}
+
+void readSolids(JsonReader& root, Scene& scene) {
+    const json& solids = root.array("solids");
+    const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+        SolidDescription d;
+        d.field = "solids[" + std::to_string(i) + "]";
+        JsonReader r(solids[i], d.field, scene.source);
+        const std::string type = r.string("type", "");
+        if (type == "box") {
+            d.kind = SolidDescription::Kind::Box;
+            d.box = readBox(r);
+        } else if (type == "sphere") {
+            d.kind = SolidDescription::Kind::Sphere;
+            d.center = r.requiredVec3("center");
+            d.radius = positive(r, "radius", 0.0f);
+        } else if (type == "plane") {
+            d.kind = SolidDescription::Kind::Plane;
+            d.point = r.requiredVec3("point");
+            d.normal = direction(r, "normal", {0, 1, 0});
+        } else if (type == "cylinder") {
+            d.kind = SolidDescription::Kind::Cylinder;
+            d.base = r.requiredVec3("base");
+            d.axis = direction(r, "axis", {0, 1, 0});
+            d.radius = positive(r, "radius", 0.0f);
+            d.height = positive(r, "height", 0.0f);
+        } else if (type == "mesh") {
+            d.kind = SolidDescription::Kind::Mesh;
+            const std::string file = r.string("file", "");
+            if (file.empty()) r.fail("file", "missing (required): path of an OBJ file");
+            d.file = std::filesystem::path(file).is_absolute() ? file : (folder / file).string();
+            d.transform.scale = readScale(r);
+            if (!(d.transform.scale.x > 0 && d.transform.scale.y > 0 && d.transform.scale.z > 0))
+                r.fail("scale", "must be positive");
+            d.transform.rotationDegrees = r.vec3("rotation", {});
+            d.transform.translation = r.vec3("translation", {});
+        } else {
+            r.fail("type",
+                   "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" +
+                       type + "\"");
+        }
+        r.finish();
+        scene.solids.push_back(d);
+    }
+}
+
+void readEmitters(JsonReader& root, Scene& scene) {
+    const json& emitters = root.array("emitters");
+    for (std::size_t i = 0; i < emitters.size(); ++i) {
+        EmitterDescription e;
+        e.field = "emitters[" + std::to_string(i) + "]";
+        JsonReader r(emitters[i], e.field, scene.source);
+        e.position = r.requiredVec3("position");
+        if (!scene.simulation.domain.contains(e.position))
+            r.fail("position", "must lie inside the domain");
+        e.direction = direction(r, "direction", e.direction);
+        e.radius = positive(r, "radius", 0.0f);
+        if (e.radius < scene.simulation.particleRadius)
+            r.fail("radius", "must be at least the particle radius");
+        const Vec3 extent = scene.simulation.domain.extent();
+        if (e.radius > std::max(extent.x, std::max(extent.y, extent.z)))
+            r.fail("radius", "must not exceed the domain's size");
+        e.speed = positive(r, "speed", 0.0f);
+        if (e.speed > 100.0f) r.fail("speed", "must be at most 100 m/s");
+        e.start = r.number("start", 0.0f);
+        if (e.start < 0.0f) r.fail("start", "must be >= 0 s");
+        e.end = r.number("end", e.end);
+        if (!(e.end > e.start)) r.fail("end", "must be later than start");
+        const int budget = r.integer("max_particles", 0);
+        if (budget < 0) r.fail("max_particles", "must be >= 0 (0: no budget)");
+        e.maxParticles = static_cast<std::size_t>(budget);
+        r.finish();
+        scene.emitters.push_back(e);
+    }
+}
+
+// The fingerprint covers everything that shapes the simulated states. The
+// document is hashed as nlohmann::json dumps it (keys sorted, numbers
+// normalised), so formatting and key order do not matter, and fields added
+// to the format later are covered without changes here.
+std::uint64_t fingerprintOf(json document) {
+    document.erase("name");
+    if (auto out = document.find("output"); out != document.end() && out->is_object()) {
+        json kept = json::object();
+        if (out->contains("fps")) kept["fps"] = (*out)["fps"];
+        if (kept.empty())
+            document.erase(out);
+        else
+            *out = kept;
+    }
+    return detail::fnv1a64(document.dump(-1, ' ', false, json::error_handler_t::replace));
+}
+
+std::string defaultName(const std::string& source) {
+    const std::string stem = std::filesystem::path(source).stem().string();
+    return stem.empty() ? "scene" : stem;
+}
+
+}  // namespace
+
+std::size_t emitterDiscSize(const Scene& scene, const EmitterDescription& e) {
+    return emitterDisc(e, scene.simulation.particleRadius).size();
+}
+
+std::size_t emitterBudget(const Scene& scene, const EmitterDescription& e) {
+    const double runEnd = scene.output.frames / double(scene.output.fps);
+    const double duration = std::max(0.0, std::min<double>(e.end, runEnd) - e.start);
+    const double rate =
+        double(emitterDiscSize(scene, e)) * e.speed / scene.simulation.particleSpacing();
+    const double count = std::min(rate * duration + double(emitterDiscSize(scene, e)), 1e12);
+    const auto byTime = static_cast<std::size_t>(count);
+    return e.maxParticles > 0 ? std::min(byTime, e.maxParticles) : byTime;
+}
+
+SceneOverride parseOverride(std::string_view assignment) {
+    const std::size_t eq = assignment.find('=');
+    if (eq == std::string_view::npos || eq == 0)
+        throw SceneError("--set " + std::string(assignment) +
+                         ": expected FIELD=VALUE, e.g. solver.iterations=8");
+    return {std::string(assignment.substr(0, eq)), std::string(assignment.substr(eq + 1))};
+}
+
+Scene parseScene(std::string_view jsonText, const std::string& sourceName,
+                 const std::vector<SceneOverride>& overrides) {
+    if (nestedTooDeep(jsonText))
+        throw SceneError(sourceName + ": JSON nested deeper than " + std::to_string(kMaxNesting) +
+                         " levels (a scene needs 4)");
+    json document =
+        json::parse(jsonText, nullptr, /*allow_exceptions=*/false, /*ignore_comments=*/true);
+    if (document.is_discarded()) {
+        // Parse again with exceptions for the position of the error.
+        try {
+            document = json::parse(jsonText, nullptr, true, true);
+        } catch (const json::out_of_range& e) {
+            // A number beyond double, e.g. 1e999: nlohmann throws out_of_range,
+            // not parse_error (an uncaught exception found by fuzz/fuzz_scene).
+            throw SceneError(sourceName + ": " + fieldOfNumber(jsonText, e.what()) +
+                             "number out of range (" + e.what() + ")");
+        } catch (const json::exception& e) {
+            throw SceneError(sourceName + ": not valid JSON: " + e.what());
+        }
+    }
+    for (const SceneOverride& o : overrides) applyOverride(document, o, sourceName);
+
+    Scene scene;
+    scene.source = sourceName;
+    JsonReader root(document, "", scene.source);
+    scene.name = root.string("name", defaultName(sourceName));
+    if (scene.name.empty() || scene.name.find('/') != std::string::npos)
+        root.fail("name", "must be a non-empty name without '/'");
+
+    SimulationParams& sim = scene.simulation;
+    {
+        JsonReader domain = root.object("domain");
+        if (!root.has("domain"))
+            root.fail("domain", "missing (required): {\"min\": [...], \"max\": [...]}");
+        sim.domain = readBox(domain);
+        domain.finish();
+    }
+    sim.gravity = root.vec3("gravity", sim.gravity);
+    if (!root.has("particle_radius")) root.fail("particle_radius", "missing (required), metres");
+    sim.particleRadius = root.number("particle_radius", sim.particleRadius);
+    {
+        JsonReader f = root.object("fluid");
+        sim.fluid.restDensity = f.number("rest_density", sim.fluid.restDensity);
+        sim.fluid.viscosity = f.number("viscosity", sim.fluid.viscosity);
+        sim.fluid.vorticity = f.number("vorticity", sim.fluid.vorticity);
+        f.finish();
+    }
+    sim.solver = readSolver(root.object("solver"));
+    if (const std::string problem = validate(sim); !problem.empty())
+        throw SceneError(sourceName + ": " + problem);
+
+    {
+        JsonReader o = root.object("output");
+        OutputParams& out = scene.output;
+        out.fps = o.number("fps", out.fps);
+        if (!(out.fps > 0.0f && out.fps <= 10000.0f)) o.fail("fps", "must be in (0, 10000]");
+        out.frames = o.integer("frames", out.frames);
+        if (out.frames < 1 || out.frames > 1000000) o.fail("frames", "must be in [1, 1000000]");
+        out.directory = o.string("directory", "out/" + scene.name);
+        if (out.directory.empty()) o.fail("directory", "must not be empty");
+        out.writeParticles = o.boolean("particles", out.writeParticles);
+        out.writeVdbPoints = o.boolean("vdb_points", out.writeVdbPoints);
+        out.checkpointEvery = o.integer("checkpoint_every", out.checkpointEvery);
+        if (out.checkpointEvery < 0 || out.checkpointEvery > 1000000)
+            o.fail("checkpoint_every", "must be in [0, 1000000] frames (0: off)");
+        out.checkpointSeconds = o.number("checkpoint_seconds", out.checkpointSeconds);
+        if (!(out.checkpointSeconds >= 0.0f && out.checkpointSeconds <= 1e6f))
+            o.fail("checkpoint_seconds", "must be in [0, 1000000] seconds (0: off)");
+        out.maxSpeed = o.number("max_speed", out.maxSpeed);
+        if (!(out.maxSpeed >= 0.0f && out.maxSpeed <= 1e6f))
+            o.fail("max_speed", "must be in [0, 1000000] m/s (0: automatic)");
+        out.maxSpeedFactor = o.number("max_speed_factor", out.maxSpeedFactor);
+        if (!(out.maxSpeedFactor >= 1.0f && out.maxSpeedFactor <= 1e4f))
+            o.fail("max_speed_factor", "must be in [1, 10000]");
+        o.finish();
+    }
+    readSolids(root, scene);
+    readEmitters(root, scene);
+    if (root.has("fluid_blocks") || scene.emitters.empty()) readFluidBlocks(root, scene);
+    root.finish();
+    scene.fingerprint = fingerprintOf(std::move(document));
+    return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file, const std::vector<SceneOverride>& overrides) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw SceneError(
+            name + ": cannot open scene file (" +
+            (std::filesystem::exists(file, ec) ? "not a regular file" : "no such file") + ")");
+    // Scenes are small; anything over 64 MiB is not a scene.
+    if (std::filesystem::file_size(file, ec) > (std::uintmax_t{64} << 20))
+        throw SceneError(name + ": scene file larger than 64 MiB");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw SceneError(name + ": cannot read scene file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str(), name, overrides);
+}
+
+std::size_t countParticles(const Scene& scene) {
+    const float spacing = scene.simulation.particleSpacing();
+    double total = 0.0;
+    for (const FluidBlock& b : scene.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
+                 double(latticeCount(e.z, spacing));
+    }
+    if (total > 4e9)
+        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(total) +
+                         " particles exceed the 32-bit particle index");
+    return static_cast<std::size_t>(total);
+}
+
+std::shared_ptr<const SolidSet> buildSolids(const Scene& scene) {
+    auto set = std::make_shared<SolidSet>();
+    const SimulationParams& sim = scene.simulation;
+    for (const SolidDescription& d : scene.solids) {
+        using Kind = SolidDescription::Kind;
+        switch (d.kind) {
+            case Kind::Box:
+                set->add(makeBoxSolid(d.box));
+                break;
+            case Kind::Sphere:
+                set->add(makeSphereSolid(d.center, d.radius));
+                break;
+            case Kind::Plane:
+                set->add(makePlaneSolid(d.point, d.normal, sim.domain));
+                break;
+            case Kind::Cylinder:
+                set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height));
+                break;
+            case Kind::Mesh: {
+                MeshSolidOptions options;
+                options.voxelSize = 0.5f * sim.particleRadius;
+                options.bandWidth = sim.kernelRadius() + 2.0f * sim.particleRadius;
+                options.shellThickness = sim.particleRadius;
+                try {
+                    set->add(loadMeshSolid(d.file, d.transform, options));
+                } catch (const SolidError& e) {
+                    throw SceneError(scene.source + ": " + d.field + ".file: " + e.what());
+                }
+                break;
+            }
+        }
+    }
+    return set;
+}
+
+ParticleStore createParticles(const Scene& scene, const SolidSet* solids, std::size_t* skipped) {
+    const SimulationParams& sim = scene.simulation;
+    const float r = sim.particleRadius;
+    const float spacing = sim.particleSpacing();
+    ParticleStore store;
+    store.reserve(countParticles(scene));
+    std::size_t rejected = 0;
+    for (const FluidBlock& b : scene.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
+                        nz = latticeCount(e.z, spacing);
+        for (long long k = 0; k < nz; ++k)
+            for (long long j = 0; j < ny; ++j)
+                for (long long i = 0; i < nx; ++i) {
+                    const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
+                                                    r + float(k) * spacing};
+                    Vec3 normal;
+                    // A particle spawned inside (or touching) a solid would be
+                    // shot out of it: leave the site empty instead.
+                    if (solids && solids->signedDistance(x, r, normal) < r) {
+                        ++rejected;
+                        continue;
+                    }
+                    store.add(x, b.velocity, sim.fluid.restDensity);
+                }
+    }
+    if (skipped) *skipped = rejected;
+    return store;
+}
+
+std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
+    // Particle store (9 floats of state, density, id, reorder scratch) plus
+    // solver scratch (lambda, delta, vorticity, grid keys, CSR offsets) plus
+    // the neighbour list: ~(4/3) pi (h / 2r)^3 neighbours, 4 bytes each, with
+    // the list's 25 % growth headroom.
+    const double ratio = params.solver.kernelRadiusFactor / 2.0;
+    const double neighbors = 4.0 / 3.0 * 3.14159265358979 * ratio * ratio * ratio;
+    return static_cast<std::size_t>(4 * 13 + 4 * 8 + 8 + neighbors * 4 * 1.25 + 0.5);
+}
+
+void checkMemory(const Scene& scene, std::size_t availableBytes) {
+    const double needed =
+        double(countParticles(scene)) * double(estimatedBytesPerParticle(scene.simulation));
+    if (needed > double(availableBytes))
+        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(countParticles(scene)) +
+                         " particles need about " +
+                         std::to_string(static_cast<long long>(needed / (1 << 20))) +
+                         " MiB, more than the " + std::to_string(availableBytes >> 20) +
+                         " MiB of memory available; use larger particles or smaller blocks");
+}
+
+}  // namespace pbf

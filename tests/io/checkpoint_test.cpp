@@ -1,0 +1,239 @@
+// Checkpoints: a run resumed from a checkpoint writes the same bytes as one
+// that was never interrupted; damaged or foreign checkpoints are refused.
+#include "pbf/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "pbf/io.hpp"
+#include "pbf/run.hpp"
+#include "pbf/simulation.hpp"
+#include "support/reliability_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using pbf::test::fileBytes;
+using pbf::test::freshTestDirectory;
+using pbf::test::smallDamBreak;
+
+constexpr int kFrames = 7;
+
+pbf::RunOptions optionsFor(const fs::path& dir, int frames) {
+    pbf::RunOptions options;
+    options.outputDirectory = dir;
+    options.frames = frames;
+    options.checkpointEvery = 3;
+    options.checkpointSeconds = 0.0;
+    return options;
+}
+
+void expectSameFrames(const fs::path& a, const fs::path& b, int first, int last) {
+    for (int f = first; f <= last; ++f) {
+        const std::string expected = fileBytes(a / pbf::frameFileName(f));
+        ASSERT_FALSE(expected.empty()) << f;
+        EXPECT_TRUE(expected == fileBytes(b / pbf::frameFileName(f)))
+            << "frame " << f << " differs";
+    }
+}
+
+std::string expectIoError(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const pbf::IoError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no IoError";
+    return {};
+}
+
+// The crash is simulated by an exception thrown from the frame callback after
+// frame 5 was written; the last periodic checkpoint is the one of frame 3.
+TEST(Checkpoint, ResumedRunWritesBitIdenticalFrames) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak();
+    const fs::path straight = freshTestDirectory("straight");
+    pbf::runScene(scene, optionsFor(straight, kFrames));
+
+    const fs::path crashed = freshTestDirectory("crashed");
+    pbf::RunOptions options = optionsFor(crashed, kFrames);
+    options.onFrame = [](const pbf::FrameReport& r) {
+        if (r.frame == 5) throw std::runtime_error("simulated crash");
+    };
+    EXPECT_THROW(pbf::runScene(scene, options), std::runtime_error);
+    EXPECT_EQ(pbf::readCheckpoint(crashed / pbf::kCheckpointFileName).frame, 3);
+
+    options.onFrame = nullptr;
+    options.resume = true;
+    const pbf::RunSummary resumed = pbf::runScene(scene, options);
+    EXPECT_EQ(resumed.resumedFromFrame, 3);
+    EXPECT_EQ(resumed.frames, kFrames);
+    expectSameFrames(straight, crashed, 0, kFrames);
+    // stats.csv has one row per frame, none twice (timing columns differ).
+    std::ifstream csv(crashed / "stats.csv");
+    std::string line;
+    int rows = -1;
+    while (std::getline(csv, line)) ++rows;
+    EXPECT_EQ(rows, kFrames + 1);
+    // The flow moved: the comparison is of a real flow, not of a frozen state.
+    EXPECT_NE(fileBytes(straight / pbf::frameFileName(0)),
+              fileBytes(straight / pbf::frameFileName(kFrames)));
+    fs::remove_all(straight);
+    fs::remove_all(crashed);
+}
+
+// A run of k frames, then a resume to more frames in a fresh process state:
+// the checkpoint written at the end of a run is also a resume point.
+TEST(Checkpoint, ExtendingAFinishedRunMatchesALongerRun) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak();
+    const fs::path straight = freshTestDirectory("long");
+    pbf::runScene(scene, optionsFor(straight, 5));
+    const fs::path extended = freshTestDirectory("extended");
+    pbf::runScene(scene, optionsFor(extended, 2));
+    pbf::RunOptions more = optionsFor(extended, 5);
+    more.resume = true;
+    EXPECT_EQ(pbf::runScene(scene, more).resumedFromFrame, 2);
+    expectSameFrames(straight, extended, 0, 5);
+    fs::remove_all(straight);
+    fs::remove_all(extended);
+}
+
+TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak();
+    pbf::Simulation original(scene);
+    for (int f = 0; f < 3; ++f) original.advanceFrame();
+    const fs::path dir = freshTestDirectory("roundtrip");
+    pbf::Checkpoint saved = pbf::captureCheckpoint(original);
+    saved.totals.statsCsv = "header\nrow\n";
+    saved.totals.substeps = 42;
+    pbf::writeCheckpoint(dir / "c.pbfck", saved);
+
+    const pbf::Checkpoint loaded = pbf::readCheckpoint(dir / "c.pbfck");
+    EXPECT_EQ(loaded.frame, 3);
+    EXPECT_EQ(loaded.totals.statsCsv, "header\nrow\n");
+    EXPECT_EQ(loaded.totals.substeps, 42);
+    pbf::Simulation restored(scene);
+    pbf::restoreCheckpoint(loaded, restored, "c.pbfck");
+    EXPECT_EQ(restored.frame(), 3);
+    EXPECT_EQ(restored.particles().id, original.particles().id);  // memory order kept
+    EXPECT_EQ(restored.particles().nextId(), original.particles().nextId());
+    original.advanceFrame();
+    restored.advanceFrame();
+    const auto& a = original.particles();
+    const auto& b = restored.particles();
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(std::memcmp(a.position.y.data(), b.position.y.data(), a.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(a.velocity.x.data(), b.velocity.x.data(), a.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(a.density.data(), b.density.data(), a.size() * sizeof(float)), 0);
+    fs::remove_all(dir);
+}
+
+TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak();
+    const fs::path dir = freshTestDirectory("damaged");
+    pbf::Simulation simulation(scene);
+    pbf::writeCheckpoint(dir / "good.pbfck", pbf::captureCheckpoint(simulation));
+    const std::string good = fileBytes(dir / "good.pbfck");
+
+    std::ofstream(dir / "truncated.pbfck", std::ios::binary) << good.substr(0, good.size() / 2);
+    EXPECT_NE(
+        expectIoError([&] { pbf::readCheckpoint(dir / "truncated.pbfck"); }).find("truncated"),
+        std::string::npos);
+
+    std::string flipped = good;
+    flipped[good.size() - 100] = static_cast<char>(flipped[good.size() - 100] ^ 0x10);
+    std::ofstream(dir / "flipped.pbfck", std::ios::binary) << flipped;
+    EXPECT_NE(expectIoError([&] { pbf::readCheckpoint(dir / "flipped.pbfck"); }).find("checksum"),
+              std::string::npos);
+
+    std::ofstream(dir / "foreign.pbfck", std::ios::binary)
+        << "ply\nformat binary_little_endian 1.0\n......";
+    const std::string foreign = expectIoError([&] { pbf::readCheckpoint(dir / "foreign.pbfck"); });
+    EXPECT_NE(foreign.find("foreign.pbfck"), std::string::npos);
+    EXPECT_NE(foreign.find("not a pbf checkpoint"), std::string::npos);
+
+    std::string future = good;
+    future[8] = 99;  // format version
+    std::ofstream(dir / "future.pbfck", std::ios::binary) << future;
+    EXPECT_NE(
+        expectIoError([&] { pbf::readCheckpoint(dir / "future.pbfck"); }).find("format version 99"),
+        std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(Checkpoint, ResumeWithAnotherSceneOrWithoutCheckpointIsRefused) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const fs::path dir = freshTestDirectory("othersc");
+    pbf::runScene(smallDamBreak(), optionsFor(dir, 2));
+    pbf::RunOptions resume = optionsFor(dir, 4);
+    resume.resume = true;
+    const pbf::Scene other = smallDamBreak({pbf::parseOverride("solver.iterations=5")});
+    EXPECT_NE(expectIoError([&] { pbf::runScene(other, resume); }).find("different scene"),
+              std::string::npos);
+    // Nothing was overwritten by the refused resume.
+    EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(3)));
+
+    const fs::path empty = freshTestDirectory("nockpt");
+    resume.outputDirectory = empty;
+    EXPECT_NE(expectIoError([&] {
+                  pbf::runScene(smallDamBreak(), resume);
+              }).find("no checkpoint to resume from"),
+              std::string::npos);
+    fs::remove_all(dir);
+    fs::remove_all(empty);
+}
+
+TEST(Checkpoint, FingerprintIgnoresFormattingAndOutputSettingsOnly) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    using pbf::test::smallSceneJson;
+    const auto fingerprint = [](const std::string& json, std::vector<pbf::SceneOverride> o = {}) {
+        return pbf::parseScene(json, "s.json", o).fingerprint;
+    };
+    const std::uint64_t base = fingerprint(smallSceneJson());
+    EXPECT_EQ(base, fingerprint(smallSceneJson(R"("output": {"frames": 7, "directory": "elsewhere",
+                                                  "checkpoint_every": 3, "max_speed": 50})")));
+    EXPECT_EQ(base, fingerprint(smallSceneJson(), {pbf::parseOverride("output.frames=12")}));
+    EXPECT_NE(base, fingerprint(smallSceneJson(), {pbf::parseOverride("solver.iterations=5")}));
+    EXPECT_NE(base, fingerprint(smallSceneJson(R"("output": {"fps": 60})")));
+    EXPECT_NE(base, fingerprint(smallSceneJson(R"("gravity": [0, -9.0, 0])")));
+}
+
+}  // namespace
+
+namespace {
+
+// A nozzle pouring onto a mesh solid: the emitters' progress is part of the
+// state, so a resumed run must emit exactly the same particles.
+TEST(Checkpoint, ResumeWithEmittersAndSolidsIsBitIdentical) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = pbf::loadScene(pbf::test::scenePath("pour_bunny.json"),
+                                            {pbf::parseOverride("particle_radius=0.016")});
+    const fs::path straight = freshTestDirectory("pour_straight");
+    pbf::runScene(scene, optionsFor(straight, 8));
+    const fs::path crashed = freshTestDirectory("pour_crashed");
+    pbf::RunOptions options = optionsFor(crashed, 8);
+    options.checkpointEvery = 3;
+    options.onFrame = [](const pbf::FrameReport& r) {
+        if (r.frame == 5) throw std::runtime_error("simulated crash");
+    };
+    EXPECT_THROW(pbf::runScene(scene, options), std::runtime_error);
+    options.onFrame = nullptr;
+    options.resume = true;
+    EXPECT_EQ(pbf::runScene(scene, options).resumedFromFrame, 3);
+    expectSameFrames(straight, crashed, 0, 8);
+    // Water was being emitted across the resume point.
+    EXPECT_LT(pbf::readParticlesPly(straight / pbf::frameFileName(3)).position.size(),
+              pbf::readParticlesPly(straight / pbf::frameFileName(8)).position.size());
+    fs::remove_all(straight);
+    fs::remove_all(crashed);
+}
+
+}  // namespace

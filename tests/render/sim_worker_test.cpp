@@ -1,0 +1,76 @@
+// The viewer's simulation thread: it publishes snapshots, pauses where told,
+// steps, resets and takes live parameters, while the caller never waits on a step.
+#include "sim_worker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "pbf/scene.hpp"
+#include "support/test_util.hpp"
+
+namespace pbf::render {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Polls `condition` for up to 60 s (the machine may be busy).
+template <class Condition>
+bool waitFor(Condition condition) {
+    const auto end = std::chrono::steady_clock::now() + 60s;
+    while (std::chrono::steady_clock::now() < end) {
+        if (condition()) return true;
+        std::this_thread::sleep_for(5ms);
+    }
+    return false;
+}
+
+TEST(SimulationWorker, PausesAtAFrameStepsAndResets) {
+    const Scene scene = parseScene(test::smallSceneJson(), "small");
+    SimulationWorker worker(scene, false);
+    Snapshot snapshot;
+    ASSERT_TRUE(waitFor([&] { return worker.takeSnapshot(snapshot); }));
+    EXPECT_EQ(snapshot.report.frame, 0);
+    EXPECT_EQ(snapshot.speed.size(), countParticles(scene));
+    EXPECT_EQ(snapshot.xyz.size(), 3 * countParticles(scene));
+
+    worker.pauseAt(2);
+    ASSERT_TRUE(waitFor([&] { return !worker.playing() && worker.framesSimulated() == 2; }));
+    std::this_thread::sleep_for(50ms);
+    EXPECT_EQ(worker.framesSimulated(), 2) << "kept playing after pauseAt";
+    ASSERT_TRUE(
+        waitFor([&] { return worker.takeSnapshot(snapshot) || snapshot.report.frame == 2; }));
+    EXPECT_EQ(snapshot.report.frame, 2);
+    EXPECT_GT(snapshot.report.substeps, 0);
+    EXPECT_GT(snapshot.report.stageMs.total, 0.0);
+
+    worker.requestStep();
+    ASSERT_TRUE(waitFor([&] { return worker.framesSimulated() == 3; }));
+    worker.requestReset();
+    ASSERT_TRUE(
+        waitFor([&] { return worker.takeSnapshot(snapshot) && snapshot.report.frame == 0; }));
+    EXPECT_EQ(worker.framesSimulated(), 0);
+}
+
+TEST(SimulationWorker, ReportsRefusedParameters) {
+    const Scene scene = parseScene(test::smallSceneJson(), "small");
+    SimulationWorker worker(scene, false);
+    SimulationParams bad = scene.simulation;
+    bad.fluid.viscosity = -1.0f;
+    worker.setParams(bad);
+    ASSERT_TRUE(waitFor([&] { return !worker.lastError().empty(); }));
+    EXPECT_NE(worker.lastError().find("viscosity"), std::string::npos) << worker.lastError();
+    SimulationParams good = scene.simulation;
+    good.solver.iterations = 7;
+    worker.setParams(good);
+    ASSERT_TRUE(waitFor([&] { return worker.lastError().empty(); }));
+    worker.requestStep();
+    Snapshot snapshot;
+    ASSERT_TRUE(
+        waitFor([&] { return worker.takeSnapshot(snapshot) && snapshot.report.frame == 1; }));
+    EXPECT_EQ(snapshot.report.iterations, 7);
+}
+
+}  // namespace
+}  // namespace pbf::render

@@ -1,0 +1,349 @@
+// Surface reconstruction and OpenVDB caches: meshes of known shapes have the
+// right volume, area and flatness and are watertight; spray is dropped; VDB
+// point caches read back what was written; bad input is refused.
+#include "pbf/surface/surface.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+
+#include "pbf/io.hpp"
+#include "pbf/run.hpp"
+#include "pbf/surface/mesh_frames.hpp"
+#include "pbf/surface/vdb_points.hpp"
+#include "support/test_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using pbf::Vec3;
+using namespace pbf::surface;
+
+constexpr float kR = 0.01f;  // particle radius of the test shapes
+
+fs::path freshDirectory(const std::string& name) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("pbf_surface_test_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Lattice points of spacing 2 r inside `inside`, each moved by up to
+// `jitter` r per axis (as a settled PBF fluid is never a perfect lattice).
+template <class Inside>
+std::vector<Vec3> lattice(Vec3 lo, Vec3 hi, float jitter, Inside inside) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-jitter * kR, jitter * kR);
+    std::vector<Vec3> points;
+    for (float z = lo.z + kR; z < hi.z; z += 2 * kR)
+        for (float y = lo.y + kR; y < hi.y; y += 2 * kR)
+            for (float x = lo.x + kR; x < hi.x; x += 2 * kR)
+                if (inside(Vec3{x, y, z})) points.push_back({x + u(rng), y + u(rng), z + u(rng)});
+    return points;
+}
+
+std::vector<Vec3> ball(float radius) {
+    return lattice({-radius, -radius, -radius}, {radius, radius, radius}, 0.15f,
+                   [&](Vec3 p) { return length(p) < radius - kR; });
+}
+
+SurfaceParams defaults() {
+    SurfaceParams p;
+    p.particleRadius = kR;
+    return p;
+}
+
+TEST(Surface, BallMeshesToAClosedSphereOfTheFluidVolume) {
+    const std::vector<Vec3> particles = ball(0.12f);
+    const TriangleMesh mesh = reconstructSurface(particles, defaults());
+    ASSERT_FALSE(mesh.triangles.empty());
+    const EdgeReport edges = checkEdges(mesh);
+    EXPECT_TRUE(edges.watertight())
+        << edges.boundaryEdges << " boundary, " << edges.nonManifoldEdges << " non-manifold, "
+        << edges.misorientedEdges << " misoriented";
+    EXPECT_EQ(countComponents(mesh), 1u);
+    // A closed surface of genus 0: V - E + F = 2.
+    EXPECT_EQ(long(mesh.vertices.size()) - long(edges.edges) + long(mesh.triangles.size()), 2);
+    // Every particle stands for a cube of (2 r)^3 water.
+    const double fluidVolume = double(particles.size()) * 8.0 * kR * kR * kR;
+    const double radius = std::cbrt(3.0 * fluidVolume / (4.0 * std::numbers::pi));
+    EXPECT_NEAR(meshVolume(mesh) / fluidVolume, 1.0, 0.03);
+    // A little more area than the sphere: the lattice's staircase shows.
+    EXPECT_NEAR(meshArea(mesh) / (4.0 * std::numbers::pi * radius * radius), 1.0, 0.05);
+    // Round: vertices within a particle radius of the sphere on average
+    // (RMS), and nowhere further than the staircase of the lattice allows.
+    double squares = 0.0, worst = 0.0;
+    for (const Vec3& v : mesh.vertices) {
+        const double d = double(length(v)) - radius;
+        squares += d * d;
+        worst = std::max(worst, std::abs(d));
+    }
+    EXPECT_LT(std::sqrt(squares / double(mesh.vertices.size())), 0.5 * kR);
+    EXPECT_LT(worst, 1.5 * kR);
+}
+
+TEST(Surface, RestingSlabHasAFlatTopAtTheFluidHeight) {
+    const float height = 0.1f;
+    const std::vector<Vec3> particles =
+        lattice({0, 0, 0}, {0.3f, height, 0.3f}, 0.1f, [](Vec3) { return true; });
+    const TriangleMesh mesh = reconstructSurface(particles, defaults());
+    EXPECT_TRUE(checkEdges(mesh).watertight());
+    EXPECT_EQ(countComponents(mesh), 1u);
+    // The top, away from the rounded edges: within 0.3 r of the fluid's top
+    // (top particle centres + r) everywhere, within 0.15 r on average.
+    double sum = 0.0, maxDeviation = 0.0;
+    int count = 0;
+    for (const Vec3& v : mesh.vertices) {
+        if (v.y < 0.5f * height || v.x < 0.05f || v.x > 0.25f || v.z < 0.05f || v.z > 0.25f)
+            continue;
+        sum += v.y;
+        maxDeviation = std::max(maxDeviation, std::abs(double(v.y) - height));
+        ++count;
+    }
+    ASSERT_GT(count, 100);
+    EXPECT_NEAR(sum / count, height, 0.15 * kR);
+    EXPECT_LT(maxDeviation, 0.3 * kR);
+}
+
+TEST(Surface, AdaptiveMeshesAreWatertightAndSmaller) {
+    const std::vector<Vec3> particles = ball(0.1f);
+    const TriangleMesh uniform = reconstructSurface(particles, defaults());
+    SurfaceParams p = defaults();
+    p.adaptivity = 0.1f;
+    const TriangleMesh adaptive = reconstructSurface(particles, p);
+    EXPECT_TRUE(checkEdges(adaptive).watertight());
+    EXPECT_LT(adaptive.triangles.size(), uniform.triangles.size() / 2);
+    EXPECT_NEAR(meshVolume(adaptive) / meshVolume(uniform), 1.0, 0.02);
+}
+
+TEST(Surface, StrayParticlesAreDroppedNotMeshedAsBlobs) {
+    std::vector<Vec3> particles = ball(0.08f);
+    const std::size_t bulk = particles.size();
+    for (int k = 0; k < 20; ++k)
+        particles.push_back({0.2f + 0.05f * float(k), 0.3f, 0.0f});  // lone droplets
+    BuildReport report;
+    const TriangleMesh filtered = reconstructSurface(particles, defaults(), &report);
+    EXPECT_EQ(report.particles, particles.size());
+    EXPECT_EQ(report.sprayDropped, 20u);
+    EXPECT_EQ(countComponents(filtered), 1u);
+    for (const Vec3& v : filtered.vertices) EXPECT_LT(length(v), 0.1f);
+    // Without the filter every droplet becomes its own little blob.
+    SurfaceParams keepAll = defaults();
+    keepAll.minNeighbors = 0;
+    keepAll.smoothing = 0;  // smoothing may shrink a one-particle blob away
+    const TriangleMesh blobs = reconstructSurface(particles, keepAll, &report);
+    EXPECT_EQ(report.sprayDropped, 0u);
+    EXPECT_EQ(countComponents(blobs), 21u);
+    EXPECT_GT(bulk, 100u);
+}
+
+TEST(Surface, NothingToMeshGivesAnEmptyMesh) {
+    EXPECT_TRUE(reconstructSurface({}, defaults()).triangles.empty());
+    const std::vector<Vec3> lone{{0, 0, 0}};
+    EXPECT_TRUE(reconstructSurface(lone, defaults()).triangles.empty());  // spray only
+}
+
+TEST(Surface, InvalidParametersAreRefusedWithTheField) {
+    SurfaceParams p = defaults();
+    p.particleRadius = 0.0f;
+    EXPECT_NE(validate(p).find("radius"), std::string::npos);
+    p = defaults();
+    p.voxelSize = 1.8f;  // spheres of 2 r would be narrower than 1.5 voxels
+    EXPECT_NE(validate(p).find("voxel-size"), std::string::npos);
+    p = defaults();
+    p.adaptivity = 2.0f;
+    EXPECT_NE(validate(p).find("adaptivity"), std::string::npos);
+    EXPECT_THROW(reconstructSurface(ball(0.05f), p), std::invalid_argument);
+    EXPECT_EQ(validate(defaults()), "");
+}
+
+TEST(Surface, ParticleRadiusIsEstimatedFromTheSpacing) {
+    std::vector<Vec3> particles =
+        lattice({0, 0, 0}, {0.2f, 0.2f, 0.2f}, 0.1f, [](Vec3) { return true; });
+    for (int k = 0; k < 30; ++k)
+        particles.push_back({1.0f + float(k), 2.0f, 0.0f});  // spray far away
+    // Jitter shortens nearest-neighbour distances: the estimate runs a few
+    // per cent low (docs/surfaces.md).
+    EXPECT_NEAR(estimateParticleRadius(particles), kR, 0.08 * kR);
+    EXPECT_THROW(estimateParticleRadius(std::vector<Vec3>{{0, 0, 0}}), std::invalid_argument);
+}
+
+TEST(SurfaceFiles, ObjAndPlyHoldTheMesh) {
+    const TriangleMesh mesh = reconstructSurface(ball(0.05f), defaults());
+    const fs::path dir = freshDirectory("meshfiles");
+    writeMeshObj(dir / "m.obj", mesh);
+    writeMeshPly(dir / "m.ply", mesh);
+    std::ifstream obj(dir / "m.obj");
+    std::size_t v = 0, f = 0;
+    std::string line;
+    while (std::getline(obj, line)) {
+        v += line.rfind("v ", 0) == 0;
+        f += line.rfind("f ", 0) == 0;
+    }
+    EXPECT_EQ(v, mesh.vertices.size());
+    EXPECT_EQ(f, mesh.triangles.size());
+    std::ifstream ply(dir / "m.ply", std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(ply)), {});
+    const std::size_t body = text.find("end_header\n") + 11;
+    EXPECT_NE(text.find("element face " + std::to_string(mesh.triangles.size()) + "\n"),
+              std::string::npos);
+    EXPECT_EQ(text.size() - body, mesh.vertices.size() * 12 + mesh.triangles.size() * 13);
+    fs::remove_all(dir);
+}
+
+TEST(VdbPoints, RoundTripKeepsEveryAttribute) {
+    pbf::ParticleStore store;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int k = 0; k < 2000; ++k)
+        store.add({u(rng), 0.5f * u(rng), 2.0f + u(rng)}, {u(rng), u(rng), u(rng)},
+                  1000.0f + u(rng));
+    std::vector<std::uint32_t> perm(store.size());
+    for (std::uint32_t k = 0; k < perm.size(); ++k)
+        perm[k] = (k * 7919u) % 2000u;  // solver-like memory order
+    store.reorder(perm);
+    const fs::path dir = freshDirectory("vdbpoints");
+    writeParticlesVdb(dir / "p.vdb", store);
+    const pbf::ParticleFrame back = readParticlesVdb(dir / "p.vdb");
+    ASSERT_EQ(back.position.size(), store.size());
+    ASSERT_EQ(back.velocity.size(), store.size());
+    ASSERT_EQ(back.density.size(), store.size());
+    ASSERT_EQ(back.id.size(), store.size());
+    const std::vector<std::uint32_t> order = store.orderById();
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const std::uint32_t i = order[k];
+        EXPECT_EQ(back.id[k], store.id[i]);
+        EXPECT_EQ(back.velocity[k], store.velocity.get(i));
+        EXPECT_EQ(back.density[k], store.density[i]);
+        // Voxel-relative float storage: equal up to float rounding.
+        EXPECT_LT(length(back.position[k] - store.position.get(i)), 1e-6f);
+    }
+    for (const auto& entry : fs::directory_iterator(dir))
+        EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(VdbPoints, MissingAndForeignFilesAreRejectedWithTheName) {
+    const fs::path dir = freshDirectory("vdbbad");
+    std::ofstream(dir / "junk.vdb") << "this is not a vdb file";
+    for (const char* name : {"missing.vdb", "junk.vdb"}) {
+        try {
+            readParticlesVdb(dir / name);
+            FAIL() << name;
+        } catch (const pbf::IoError& e) {
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    }
+    // A level set is a VDB file but holds no points.
+    writeLevelSetVdb(dir / "ls.vdb", buildLevelSet(ball(0.05f), defaults()));
+    EXPECT_THROW(readParticlesVdb(dir / "ls.vdb"), pbf::IoError);
+    fs::remove_all(dir);
+}
+
+TEST(VdbPoints, RunWritesAPointCachePerFrameWhenTheSceneAsks) {
+    const pbf::Scene scene = pbf::parseScene(
+        pbf::test::smallSceneJson(R"("output": {"vdb_points": true})"), "small.json");
+    ASSERT_TRUE(scene.output.writeVdbPoints);
+    EXPECT_FALSE(pbf::parseScene(pbf::test::smallSceneJson(), "small.json").output.writeVdbPoints);
+    const fs::path dir = freshDirectory("runvdb");
+    pbf::RunOptions options;
+    options.outputDirectory = dir;
+    options.frames = 2;
+    options.writeFrame = [&](int frame, const pbf::ParticleStore& particles) {
+        writeParticlesVdb(dir / ("frame_" + std::to_string(frame) + ".vdb"), particles);
+    };
+    pbf::runScene(scene, options);
+    for (int f = 0; f <= 2; ++f) {
+        const pbf::ParticleFrame ply = pbf::readParticlesPly(dir / pbf::frameFileName(f));
+        const pbf::ParticleFrame vdb =
+            readParticlesVdb(dir / ("frame_" + std::to_string(f) + ".vdb"));
+        ASSERT_EQ(vdb.position.size(), ply.position.size());
+        for (std::size_t k = 0; k < ply.position.size(); ++k) {
+            EXPECT_EQ(vdb.id[k], ply.id[k]);
+            EXPECT_EQ(vdb.velocity[k], ply.velocity[k]);
+            EXPECT_LT(length(vdb.position[k] - ply.position[k]), 1e-6f);
+        }
+    }
+    fs::remove_all(dir);
+}
+
+TEST(MeshFrames, FrameRangesParseLikeSlices) {
+    const FrameRange all = parseFrameRange("::2");
+    EXPECT_TRUE(all.contains(0));
+    EXPECT_FALSE(all.contains(1));
+    EXPECT_TRUE(all.contains(1000));
+    const FrameRange r = parseFrameRange("10:20:5");
+    EXPECT_TRUE(r.contains(10));
+    EXPECT_TRUE(r.contains(15));
+    EXPECT_FALSE(r.contains(20));
+    EXPECT_FALSE(r.contains(12));
+    const FrameRange one = parseFrameRange("7");
+    EXPECT_TRUE(one.contains(7));
+    EXPECT_FALSE(one.contains(8));
+    for (const char* bad : {"a", "1:2:0", "5:3", "-1", "1:2:3:4", "1.5"})
+        EXPECT_THROW(parseFrameRange(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(parseMeshFormats("obj,stl"), std::invalid_argument);
+    EXPECT_TRUE(parseMeshFormats("ply").ply);
+}
+
+TEST(MeshFrames, MeshesADirectoryOfFramesWithTheEstimatedRadius) {
+    const fs::path dir = freshDirectory("frames");
+    pbf::ParticleStore store;
+    for (const Vec3& p : ball(0.06f)) store.add(p, {}, 1000.0f);
+    for (int f = 0; f < 4; ++f) pbf::writeParticlesPly(dir / pbf::frameFileName(f), store);
+    MeshJob job;
+    job.input = dir;
+    job.range = parseFrameRange("1::2");
+    job.formats = parseMeshFormats("obj,ply,vdb");
+    std::vector<int> seen;
+    job.onFrame = [&](const FrameMeshReport& r) { seen.push_back(r.frame); };
+    const MeshSummary summary = meshFrames(job);
+    EXPECT_EQ(seen, (std::vector<int>{1, 3}));
+    EXPECT_EQ(summary.radiusSource, "estimated");  // no summary.json
+    EXPECT_NEAR(summary.particleRadius, kR, 0.1 * kR);
+    for (int f : {1, 3}) {
+        EXPECT_TRUE(fs::exists(dir / "surface" / surfaceFileName(f, "obj")));
+        EXPECT_TRUE(fs::exists(dir / "surface" / surfaceFileName(f, "ply")));
+        EXPECT_TRUE(fs::exists(dir / "surface" / levelSetFileName(f)));
+    }
+    EXPECT_FALSE(fs::exists(dir / "surface" / surfaceFileName(0, "obj")));
+    // summary.json of `pbf run` takes precedence over the estimate.
+    std::ofstream(dir / "summary.json") << R"({"frames": 3, "particle_radius": 0.012})";
+    job.range = parseFrameRange("0");
+    EXPECT_EQ(meshFrames(job).radiusSource, "summary.json");
+    EXPECT_FLOAT_EQ(radiusFromSummary(dir), 0.012f);
+    fs::remove_all(dir);
+}
+
+TEST(MeshFrames, BadDirectoriesAndFramesAreReportedWithTheName) {
+    const fs::path dir = freshDirectory("badframes");
+    auto expectIoError = [](const MeshJob& job, const std::string& fragment) {
+        try {
+            meshFrames(job);
+            FAIL() << "no error, expected " << fragment;
+        } catch (const pbf::IoError& e) {
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+        }
+    };
+    MeshJob job;
+    job.input = dir / "missing";
+    expectIoError(job, "missing: no such directory");
+    job.input = dir;
+    expectIoError(job, "no particle frames");
+    std::ofstream(dir / "frame_00000.ply")
+        << "ply\nformat binary_little_endian 1.0\nelement vertex 10\n"
+           "property float x\nproperty float y\nproperty float z\nend_header\n";
+    job.params.particleRadius = kR;
+    expectIoError(job, "frame_00000.ply: file is shorter than its vertex count says");
+    job.range = parseFrameRange("5:9");
+    expectIoError(job, "none of its 1 particle frames");
+    fs::remove_all(dir);
+}
+
+}  // namespace
