@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "pbf/neighbor_search.hpp"
+#include "backend/cpu/neighbor_search.hpp"
 #include "pbf/particles.hpp"
 
 namespace {

@@ -17,7 +17,7 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
 
 namespace pbf::cli {
@@ -30,6 +30,7 @@ struct BenchArguments {
     int warmup = 5;
     int iterations = 4;
     int threads = 0;
+    std::string device = "cpu";
 };
 
 struct BenchResult {
@@ -51,30 +52,35 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
         throw SceneError(fmt::format("size {}: {}", target, problem));
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(scene, available);
-
-    Simulation simulation(scene);
-    ParticleStore& particles = simulation.particles();
-    Solver& solver = simulation.solver();
-    // Fixed substep: CFL 0.4 at the dam break's front speed 2 sqrt(g H).
+    // One fixed substep per frame, CFL 0.4 at the dam break's front speed
+    // 2 sqrt(g H): every stepFrame() is one timed solver step.
     const float height = scene.fluidBlocks.front().box.extent().y;
     const float frontSpeed = 2.0f * std::sqrt(9.81f * height);
     const float dt = std::min(scene.simulation.solver.maxTimeStep,
                               0.4f * scene.simulation.particleSpacing() / frontSpeed);
-    for (int s = 0; s < args.warmup; ++s) solver.step(particles, dt);
+    scene.fps = 1.0f / dt;
+    scene.simulation.solver.timeStepMode = TimeStepMode::Fixed;
+    scene.simulation.solver.fixedSubsteps = 1;
+    scene.emitters.clear();
+
+    WorldOptions options;
+    options.backend = parseBackendKind(args.device);
+    World world(scene, options);
+    const auto step = [&world] {
+        const FrameResult r = world.stepFrame();
+        if (!r.ok()) throw std::runtime_error(r.error->message);
+        return r.report.stageMs;
+    };
+    for (int s = 0; s < args.warmup; ++s) step();
 
     BenchResult result;
-    result.particles = particles.size();
-    for (int s = 0; s < args.steps; ++s) {
-        solver.step(particles, dt);
-        result.perStep += solver.lastStageTimes() * (1.0 / args.steps);
-    }
+    result.particles = world.particleCount();
+    for (int s = 0; s < args.steps; ++s) result.perStep += step() * (1.0 / args.steps);
     result.stepMs = result.perStep.total;
-    result.bytesPerParticle =
-        double(particles.memoryBytes() + solver.memoryBytes()) / double(particles.size());
-    const NeighborSearch& search = solver.neighborSearch();
-    result.neighborsPerParticle = double(search.totalNeighborCount()) / double(particles.size());
-    result.compactListShare =
-        double(search.compactBlockCount()) / double(std::max<std::size_t>(1, search.blockCount()));
+    const BackendDiagnostics d = world.backend().diagnostics();
+    result.bytesPerParticle = double(d.memoryBytes) / double(result.particles);
+    result.neighborsPerParticle = d.neighborsPerParticle;
+    result.compactListShare = d.compactListShare;
     return result;
 }
 
@@ -99,8 +105,10 @@ std::vector<std::size_t> parseSizes(const std::string& text) {
 int runBench(const BenchArguments& args) {
     if (args.threads > 0) setThreadCount(args.threads);
     const Scene base = loadScene(args.scene);
-    fmt::print("pbf bench: scene {}, {} iterations, {} timed steps after {} warm-up, {} threads\n",
-               args.scene, args.iterations, args.steps, args.warmup, threadCount());
+    fmt::print(
+        "pbf bench: scene {}, {} backend, {} iterations, {} timed steps after {} warm-up, {} "
+        "threads\n",
+        args.scene, args.device, args.iterations, args.steps, args.warmup, threadCount());
     fmt::print("{:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>13} {:>6} {:>6}\n",
                "particles", "step_ms", "predict", "grid", "reorder", "lists", "lambda", "delta-p",
                "post", "particle-st/s", "nbrs", "B/part");
@@ -115,12 +123,13 @@ int runBench(const BenchArguments& args) {
             r.particles, r.stepMs, t.predict, t.gridBuild, t.reorder, t.neighborLists, t.lambda,
             t.deltaP, t.postProcess, rate, r.neighborsPerParticle, r.bytesPerParticle);
         machineLines.push_back(fmt::format(
-            "pbf-bench: particles={} steps={} iterations={} threads={} step_ms={:.3f} "
+            "pbf-bench: particles={} steps={} iterations={} threads={} device={} step_ms={:.3f} "
             "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
             "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
             "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} "
             "bytes_per_particle={:.0f} compact_lists={:.2f}",
-            r.particles, args.steps, args.iterations, threadCount(), r.stepMs, rate, t.predict,
+            r.particles, args.steps, args.iterations, threadCount(), args.device, r.stepMs, rate,
+            t.predict,
             t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder, t.neighborLists,
             t.lambda, t.deltaP, r.bytesPerParticle, r.compactListShare));
     }
@@ -150,6 +159,9 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
+    bench->add_option("--device", args->device, "Backend: cpu (SIMD) or reference (scalar)")
+        ->check(CLI::IsMember({"cpu", "reference"}))
+        ->capture_default_str();
     return [args, sizes] {
         args->sizes = parseSizes(*sizes);
         return runBench(*args);

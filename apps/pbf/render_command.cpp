@@ -24,7 +24,7 @@
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
 
 namespace pbf::cli {
@@ -162,7 +162,7 @@ int runRender(const RenderArguments& args) {
 
     const int total = simulate ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1
                                : int(plyFiles.size());
-    const double fps = scene ? scene->output.fps : 30.0;
+    const double fps = scene ? scene->fps : 30.0;
     if (args.threads > 0) setThreadCount(args.threads);
 
     render::HeadlessContext context;
@@ -179,35 +179,54 @@ int runRender(const RenderArguments& args) {
                    total, name, args.width, args.height, args.style, args.color,
                    context.rendererName(), out.string());
 
-    std::unique_ptr<Simulation> simulation;
-    if (simulate) simulation = std::make_unique<Simulation>(*scene);
     ProgressBar progress("rendering", total, !args.quiet);
-    double simulateSeconds = 0.0, renderSeconds = 0.0;
-    for (int frame = 0; frame < total; ++frame) {
+    double renderSeconds = 0.0;
+    std::size_t particleCount = 0;
+    const auto renderFrame = [&](int frame, const render::RenderParticles& particles) {
         const auto t0 = Clock::now();
-        render::RenderParticles particles;
-        if (simulation) {
-            if (frame > 0) simulation->advanceFrame();
-            particles = render::packParticles(simulation->particles(), settings.color);
-        } else {
-            particles = render::packParticles(
-                frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]),
-                settings.color);
-        }
-        const auto t1 = Clock::now();
         renderer.upload(particles);
         renderer.render(target.framebuffer(), args.width, args.height, camera, settings);
         if (colorBar) colorBar->draw(target.framebuffer(), args.width, args.height, settings);
         render::writePng(out / fmt::format("frame_{:05d}.png", frame), target.read());
-        const auto t2 = Clock::now();
-        simulateSeconds += std::chrono::duration<double>(t1 - t0).count();
-        renderSeconds += std::chrono::duration<double>(t2 - t1).count();
-        progress.update(frame + 1, fmt::format("{} particles", particles.count()));
+        renderSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
+        particleCount = particles.count();
+        progress.update(frame + 1, fmt::format("{} particles", particleCount));
+    };
+    int status = 0;
+    double simulateSeconds = 0.0;
+    if (simulate) {
+        // `pbf run`'s loop with an image instead of a PLY file per frame
+        // (stats.csv and summary.json go beside the images).
+        Scene run = *scene;
+        run.output.directory = out.string();
+        run.output.frames = total - 1;
+        run.output.writeParticles = false;
+        run.output.writeVdbPoints = false;
+        run.output.writeCheckpoints = false;
+        RunOptions options;
+        options.writeFrame = [&](int frame, const World& world) {
+            renderFrame(frame, render::packParticles(world.particles(), settings.color));
+        };
+        const auto t0 = Clock::now();
+        const RunSummary summary = runScene(run, options);
+        simulateSeconds = std::chrono::duration<double>(Clock::now() - t0).count() - renderSeconds;
+        if (summary.error) {
+            progress.finish();
+            printError(summary.error->message);
+            status = 4;
+        }
+    } else {
+        for (int frame = 0; frame < total; ++frame) {
+            const auto t0 = Clock::now();
+            const ParticleFrame ply =
+                frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]);
+            simulateSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
+            renderFrame(frame, render::packParticles(ply, settings.color));
+        }
     }
     progress.finish();
 
     std::string videoText = "no video (--no-video)";
-    int status = 0;
     if (!args.noVideo && total > 1) {
         const fs::path video = out / fmt::format("{}.mp4", name.empty() ? "frames" : name);
         const render::VideoResult v = render::encodeVideo(out, fps, video);

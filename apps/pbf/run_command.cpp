@@ -1,6 +1,7 @@
 // `pbf run SCENE`: simulate a scene, writing PLY frames, stats.csv and summary.json.
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,7 +13,6 @@
 #include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/state_guard.hpp"
 #include "pbf/surface/vdb_points.hpp"
 #include "pbf/threading.hpp"
 #include "stop_signals.hpp"
@@ -31,6 +31,7 @@ struct RunArguments {
     bool vdbPoints = false;
     bool mesh = false;
     bool resume = false;
+    std::string device = "cpu";
     int checkpointEvery = -1;         // -1: the scene's output.checkpoint_every
     double checkpointSeconds = -1.0;  // -1: the scene's output.checkpoint_seconds
 };
@@ -66,31 +67,30 @@ int runScene(const RunArguments& args) {
     if (!args.quiet)
         fmt::print(stderr,
                    "pbf run: {} (up to {} particles, {} frames at {} fps, {} threads) -> {}\n",
-                   scene.name, particles, scene.output.frames, scene.output.fps, threadCount(),
+                   scene.name, particles, scene.output.frames, scene.fps, threadCount(),
                    scene.output.directory);
     ProgressBar progress("simulating", scene.output.frames, !args.quiet);
     RunOptions options;
-    options.outputDirectory = scene.output.directory;
-    options.frames = scene.output.frames;
-    options.writeParticles = scene.output.writeParticles;
-    options.onStart = [&](const Simulation& simulation) {
+    options.world.backend = parseBackendKind(args.device);
+    options.onStart = [&](const World& world) {
         if (args.quiet) return;
-        if (const SolidSet* solids = simulation.solids())
-            for (std::size_t k = 0; k < solids->size(); ++k)
-                fmt::print(stderr, "pbf run: solid {}: {}\n", k, (*solids)[k].describe());
-        if (simulation.skippedParticles() > 0)
+        const SolidSet& solids = world.solids();
+        for (std::size_t k = 0; k < solids.size(); ++k)
+            fmt::print(stderr, "pbf run: solid {}: {}\n", k, solids.shape(k).describe());
+        if (world.skippedParticles() > 0)
             fmt::print(
                 stderr,
                 "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
-                simulation.skippedParticles());
-        for (const Emitter& e : simulation.emitters())
+                world.skippedParticles());
+        for (const Emitter& e : world.emitters())
             fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n",
                        e.discSize(), e.rate());
     };
     if (scene.output.writeVdbPoints)
-        options.writeFrame = [&](int frame, const ParticleStore& store) {
+        options.writeFrame = [&](int frame, const World& world) {
             surface::writeParticlesVdb(
-                options.outputDirectory / fmt::format("frame_{:05d}.vdb", frame), store);
+                std::filesystem::path(scene.output.directory) / fmt::format("frame_{:05d}.vdb", frame),
+                world.particles());
         };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
@@ -98,8 +98,6 @@ int runScene(const RunArguments& args) {
                                     r.substeps, r.stepMs, 100.0 * r.state.averageDensityError));
     };
     options.resume = args.resume;
-    options.checkpointEvery = scene.output.checkpointEvery;
-    options.checkpointSeconds = scene.output.checkpointSeconds;
     options.stopRequested = [] { return stopSignal() != 0; };
     options.onNotice = [&](const std::string& message) {
         if (!args.quiet) fmt::print(stderr, "pbf run: {}\n", message);
@@ -108,16 +106,16 @@ int runScene(const RunArguments& args) {
     RunSummary s;
     try {
         s = pbf::runScene(scene, options);
-    } catch (const StateError& e) {
-        progress.finish();
-        printError(e.what());
-        return 4;
     } catch (const IoError& e) {
         progress.finish();
         printError(e.what());
         return 1;
     }
     progress.finish();
+    if (s.error) {
+        printError(s.error->message);
+        return 4;
+    }
     if (s.interrupted) {
         const int signal = stopSignal();
         fmt::print(stderr,
@@ -177,6 +175,10 @@ std::function<int()> addRunCommand(CLI::App& app) {
                   "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` "
                   "has the options)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
+    run->add_option("--device", args->device,
+                    "Backend: cpu (SIMD, the default) or reference (scalar, slow: for checking)")
+        ->check(CLI::IsMember({"cpu", "reference"}))
+        ->capture_default_str();
     run->add_flag(
         "-r,--resume", args->resume,
         "Continue from the checkpoint in the output directory (same scene and --set overrides); "

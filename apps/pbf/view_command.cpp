@@ -57,6 +57,10 @@ int runView(const ViewArguments& args) {
         "pbf view: {} frames simulated ({:.1f} ms each), {} frames drawn ({:.1f} ms each){}\n",
         s.framesSimulated, s.averageStepMs, s.framesDrawn, s.averageRenderMs,
         args.screenshot.empty() ? "" : ", screenshot " + args.screenshot);
+    if (!s.error.empty()) {
+        printError(s.error);
+        return 4;
+    }
     return 0;
 }
 

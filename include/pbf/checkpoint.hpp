@@ -32,7 +32,7 @@
 
 namespace pbf {
 
-class Simulation;
+class World;
 
 inline constexpr std::uint32_t kCheckpointFormatVersion = 2;  // 2: emitters, inside_solid
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
@@ -60,12 +60,12 @@ struct Checkpoint {
     RunTotals totals;
 };
 
-// The simulation's state (totals left empty).
-Checkpoint captureCheckpoint(const Simulation& simulation);
-// Puts a checkpoint's state into `simulation`. Throws IoError when the
-// checkpoint was written for another scene or by another pbf version;
+// The world's state (totals left empty), for the scene with this fingerprint.
+Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint);
+// Puts a checkpoint's state into `world`. Throws IoError when the checkpoint
+// was written for another scene (fingerprint) or by another pbf version;
 // `name` (the file) is used in the messages.
-void restoreCheckpoint(const Checkpoint& checkpoint, Simulation& simulation,
+void restoreCheckpoint(const Checkpoint& checkpoint, World& world, std::uint64_t sceneFingerprint,
                        const std::string& name);
 
 // Writes atomically (pbf::writeFileAtomically). Throws IoError.

@@ -5,9 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "pbf/particles.hpp"
-#include "pbf/scene.hpp"
 #include "pbf/solids.hpp"
+#include "pbf/world_def.hpp"
 
 namespace pbf {
 
@@ -25,11 +24,13 @@ class Emitter {
   public:
     Emitter(const EmitterDescription& description, const SimulationParams& params);
 
-    // Emits the discs due in the substep [time, time + dt): one disc each
-    // time the stream has advanced one particle spacing. Discs start at the
-    // nozzle and are placed where the stream front is at the end of the
-    // substep. Sites inside solids or outside the domain are skipped.
-    void emit(double time, double dt, ParticleStore& particles, const SolidSet* solids);
+    // The discs due in the substep [time, time + dt): one disc each time
+    // the stream has advanced one particle spacing. Discs start at the nozzle
+    // and are placed where the stream front is at the end of the substep.
+    // Sites inside solids or outside the domain are skipped. Appends the new
+    // particles' positions to `positions`; they all move at velocity().
+    void emit(double time, double dt, const SolidSet* solids, std::vector<Vec3>& positions);
+    Vec3 velocity() const { return description_.direction * description_.speed; }
 
     std::size_t emitted() const { return emitted_; }
     std::size_t discSize() const { return disc_.size(); }
@@ -47,7 +48,6 @@ class Emitter {
     std::vector<Vec3> disc_;
     float particleRadius_;
     float spacing_;
-    float restDensity_;
     Aabb inside_;             // the solver's collision box
     double travelled_ = 0.0;  // stream length not yet emitted, m
     std::size_t emitted_ = 0;

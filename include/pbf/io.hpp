@@ -11,6 +11,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pbf/particles.hpp"
@@ -26,6 +27,11 @@ class IoError : public std::runtime_error {
 // is flushed, synced and renamed over `path`. Throws IoError naming the path.
 void writeFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write);
+
+// Appends `text` to `path` (created if missing) in one write, so a killed
+// run leaves whole lines (stats.csv grows by one row per frame instead of
+// being rewritten). Throws IoError naming the path.
+void appendToFile(const std::filesystem::path& path, std::string_view text);
 
 // One particle frame as read back from a file.
 struct ParticleFrame {

@@ -1,45 +1,42 @@
-// `pbf run`: simulate a scene and write its outputs.
+// `pbf run`: simulate a scene and write its outputs (also what `pbf render`
+// and Python's pbf.run drive).
 //
 // Output directory layout:
 //   frame_00000.ply ...  particles per frame (frame 0 is the initial state)
-//   stats.csv            one row per frame (columns in docs/outputs.md)
-//   summary.json         totals of the run
+//   stats.csv            one row per frame, appended as the run goes
+//   summary.json         totals of the run (and the error that stopped it, if any)
 //   checkpoint.pbfck     the state to resume from (include/pbf/checkpoint.hpp)
-// Every file is replaced atomically, so the directory is consistent at any
-// moment a run is killed; `resume` continues from the checkpoint and writes
-// frames bit-identical to an uninterrupted run (docs/reliability.md).
+// Every file is replaced atomically (stats.csv grows by whole rows), so the
+// directory is consistent at any moment a run is killed; `resume` continues
+// from the checkpoint and writes frames bit-identical to an uninterrupted run
+// (docs/reliability.md).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf {
 
+// How runScene runs; what it writes comes from the scene's `output`.
 struct RunOptions {
-    std::filesystem::path outputDirectory;  // created if missing
-    int frames = 0;                         // frames after the initial one
-    bool writeParticles = true;
-    // Writes further per-frame files (e.g. OpenVDB points, which libpbf's
-    // core does not link), before onFrame; may be empty.
-    std::function<void(int frame, const ParticleStore& particles)> writeFrame;
+    WorldOptions world;  // the backend
+    // Writes further per-frame files (e.g. OpenVDB points, images) after the
+    // PLY frame and before onFrame; may be empty.
+    std::function<void(int frame, const World& world)> writeFrame;
     // Called after every frame (progress display); may be empty.
     std::function<void(const FrameReport&)> onFrame;
-    // Called once the scene is built (solids loaded, blocks filled); may be empty.
-    std::function<void(const Simulation&)> onStart;
+    // Called once the world is built (solids loaded, blocks filled); may be empty.
+    std::function<void(const World&)> onStart;
 
-    // Continue from <outputDirectory>/checkpoint.pbfck instead of frame 0.
+    // Continue from <output.directory>/checkpoint.pbfck instead of frame 0.
     bool resume = false;
-    // A checkpoint is written when this many frames (0: never) or this many
-    // wall-clock seconds (0: never) have passed since the last one, when the
-    // run stops early, and at the end.
-    int checkpointEvery = 10;
-    double checkpointSeconds = 60.0;
     // Polled between frames; when it returns true the run writes a checkpoint
     // and returns with RunSummary::interrupted set. May be empty.
     std::function<bool()> stopRequested;
@@ -66,12 +63,15 @@ struct RunSummary {
     bool interrupted = false;          // stopRequested() ended the run early
     int lastFrame = 0;                 // last frame written
     std::filesystem::path checkpoint;  // last checkpoint written (empty if none)
+    // Why the run stopped early (the state guard, ...); its message says
+    // which frames are good and where the run can be resumed from.
+    std::optional<StepError> error;
 };
 
 // Runs the scene. Throws IoError if an output cannot be written (or, with
 // `resume`, the checkpoint is missing, corrupt or from another scene) and
-// StateError when the state guard stops the run; in that case the last good
-// frame's state is saved as the checkpoint first and the message says so.
+// SceneError for an invalid scene or a broken mesh. A frame that fails
+// (the state guard) ends the run with RunSummary::error set.
 RunSummary runScene(const Scene& scene, const RunOptions& options);
 
 // The stats.csv header line (without newline) and one row.

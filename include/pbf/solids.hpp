@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "pbf/pose.hpp"
 #include "pbf/vec3.hpp"
 
 namespace pbf {
@@ -31,35 +32,67 @@ class Solid {
     // Signed distance from the surface (metres, negative inside) and the
     // outward unit normal (the normalised gradient of the distance).
     virtual float signedDistance(const Vec3& p, Vec3& normal) const = 0;
-    // A box containing the solid's surface (infinite planes clip it to the domain).
+    // A box containing the solid's surface in its own frame (infinite planes
+    // clip it to the domain).
     virtual Aabb bounds() const = 0;
     virtual std::string describe() const = 0;
 };
 
-// The solids of a scene. Queries return the nearest solid's distance.
+// Where a solid is and how it moves: the pose of its frame and the velocity
+// of that frame (linear velocity of the frame's origin, angular velocity
+// about it, world axes). Static solids have zero velocities.
+struct SolidMotion {
+    Pose pose;
+    Vec3 velocity;         // m/s
+    Vec3 angularVelocity;  // rad/s
+
+    // Velocity of the solid's material at world point p: v + omega x (p - origin).
+    Vec3 velocityAt(const Vec3& p) const {
+        return velocity + cross(angularVelocity, p - pose.position);
+    }
+};
+
+// The solids of a world, each a shape in its own frame placed by a pose.
+// Queries return the nearest solid's distance.
 class SolidSet {
   public:
-    void add(std::unique_ptr<Solid> solid);
-    bool empty() const { return solids_.empty(); }
-    std::size_t size() const { return solids_.size(); }
-    const Solid& operator[](std::size_t i) const { return *solids_[i]; }
+    void add(std::unique_ptr<Solid> shape, const SolidMotion& motion = {});
+    bool empty() const { return shapes_.empty(); }
+    std::size_t size() const { return shapes_.size(); }
+    const Solid& shape(std::size_t i) const { return *shapes_[i]; }
+    const SolidMotion& motion(std::size_t i) const { return motions_[i]; }
+    // Moves solid i (between steps); its world bounds follow.
+    void setMotion(std::size_t i, const SolidMotion& motion);
+    // Whether any solid has a non-zero velocity.
+    bool anyMoving() const { return moving_; }
+    // World-space box around solid i's surface.
+    const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 
     // Smallest signed distance over the solids whose bounds lie within
-    // `reach` of p; returns `reach` (and leaves normal unset) if none does.
-    float signedDistance(const Vec3& p, float reach, Vec3& normal) const;
+    // `reach` of p; returns `reach` (and leaves normal and nearest unset) if
+    // none does. `nearest` (may be null) receives the index of that solid.
+    float signedDistance(const Vec3& p, float reach, Vec3& normal,
+                         std::size_t* nearest = nullptr) const;
 
   private:
-    std::vector<std::unique_ptr<Solid>> solids_;
+    float distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const;
+
+    std::vector<std::unique_ptr<Solid>> shapes_;
+    std::vector<SolidMotion> motions_;
+    std::vector<bool> identity_;  // pose is the identity: query the shape directly
     std::vector<Aabb> bounds_;
+    bool moving_ = false;
 };
 
 // Placement of a mesh: p' = rotation(p * scale) + translation, rotation as
-// Euler angles in degrees about x, then y, then z.
+// Euler angles in degrees about x, then y, then z. The scale is baked into
+// the mesh's distance field; rotation and translation are its pose().
 struct Transform {
     Vec3 scale{1.0f, 1.0f, 1.0f};
     Vec3 rotationDegrees;
     Vec3 translation;
-    Vec3 apply(const Vec3& p) const;
+    Vec3 apply(const Vec3& p) const { return pose().toWorld({p.x * scale.x, p.y * scale.y, p.z * scale.z}); }
+    Pose pose() const { return {translation, fromEulerDegrees(rotationDegrees)}; }
 };
 
 std::unique_ptr<Solid> makeBoxSolid(const Aabb& box);

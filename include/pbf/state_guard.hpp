@@ -2,8 +2,9 @@
 // (a NaN or infinite position or velocity, or a particle faster than any
 // speed the scene can physically reach) instead of writing garbage frames.
 //
-// Simulation calls findBadParticle on its particles before the first substep
-// of every frame and after every substep; the scan is one cheap parallel pass
+// World::stepFrame asks its backend for the first bad particle before the
+// first substep of every frame and after every substep (a failure is
+// returned as a StepError, include/pbf/world.hpp); the scan is one cheap parallel pass
 // over positions and velocities and is deterministic (it reports the lowest
 // memory index, and the memory order does not depend on the thread count).
 // findBadParticle is also the hook for finer checks: a solver stage can call
@@ -13,14 +14,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 
 #include "pbf/particles.hpp"
 
 namespace pbf {
 
-struct Scene;
+struct WorldDef;
 
 struct BadParticle {
     std::size_t index = 0;  // memory index (changes every step)
@@ -35,29 +35,12 @@ struct BadParticle {
 // check). Empty when the state is good.
 std::optional<BadParticle> findBadParticle(const ParticleStore& particles, double speedLimit);
 
-// The speed limit of a scene, m/s: output.max_speed when set (> 0), else
-// output.max_speed_factor * v_ref with v_ref = sqrt(2 |g| D) + the fastest
+// The speed limit of a world, m/s: guard.max_speed when set (> 0), else
+// guard.max_speed_factor * v_ref with v_ref = sqrt(2 |g| D) + the fastest
 // initial block velocity, D the domain diagonal: a particle falling freely
 // across the whole domain reaches sqrt(2 |g| D), so anything many times
 // faster is a blow-up. Without gravity and initial motion, v_ref is the speed
 // that crosses the domain in one frame.
-double speedLimit(const Scene& scene);
-
-// Thrown by Simulation::advanceFrame when the state guard fires.
-class StateError : public std::runtime_error {
-  public:
-    StateError(const std::string& message, int frameNumber, int substepNumber,
-               std::string stageName, BadParticle badParticle)
-        : std::runtime_error(message),
-          frame(frameNumber),
-          substep(substepNumber),
-          stage(std::move(stageName)),
-          particle(std::move(badParticle)) {}
-
-    int frame;          // frame being computed (1-based, as in frame_NNNNN.ply)
-    int substep;        // substep within that frame (1-based; 0: before the first)
-    std::string stage;  // where the check ran, e.g. "after solver step"
-    BadParticle particle;
-};
+double speedLimit(const WorldDef& def);
 
 }  // namespace pbf

@@ -4,7 +4,8 @@
 #include <cstddef>
 
 #include "pbf/particles.hpp"
-#include "pbf/solver.hpp"
+#include "pbf/solids.hpp"
+#include "pbf/solver_constants.hpp"
 
 namespace pbf {
 
@@ -27,5 +28,8 @@ struct StateStatistics {
 StateStatistics computeStatistics(const ParticleStore& particles, const SolverConstants& constants,
                                   const Aabb& domain, const SolidSet* solids = nullptr,
                                   float particleRadius = 0.0f);
+
+// Largest particle speed (m/s). Deterministic (max does not depend on order).
+float maxSpeed(const ParticleStore& particles);
 
 }  // namespace pbf

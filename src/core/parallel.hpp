@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "pbf/threading.hpp"
@@ -13,16 +14,23 @@ namespace pbf::detail {
 // to balance two threads on a few thousand particles.
 inline constexpr std::size_t kBlockSize = 1024;
 
-// Calls fn(begin, end) over [0, n) in blocks, in parallel. Each index is
-// visited exactly once; fn must write only the entries of its own range.
+// Calls fn(begin, end) over [0, n) in blocks of `blockSize`, in parallel.
+// Each index is visited exactly once; fn must write only the entries of its
+// own range.
 template <class Fn>
-void parallelFor(std::size_t n, Fn&& fn) {
-    const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + kBlockSize - 1) / kBlockSize);
+void parallelForBlocks(std::size_t n, std::size_t blockSize, Fn&& fn) {
+    const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + blockSize - 1) / blockSize);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threadCount()) if (blocks > 1)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
-        const std::size_t begin = static_cast<std::size_t>(b) * kBlockSize;
-        fn(begin, std::min(n, begin + kBlockSize));
+        const std::size_t begin = static_cast<std::size_t>(b) * blockSize;
+        fn(begin, std::min(n, begin + blockSize));
     }
+}
+
+// parallelForBlocks with the default block size.
+template <class Fn>
+void parallelFor(std::size_t n, Fn&& fn) {
+    parallelForBlocks(n, kBlockSize, std::forward<Fn>(fn));
 }
 
 // Sums blockValue(begin, end) over fixed blocks and adds the partial sums in

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "pbf/neighbor_search.hpp"
+#include "backend/cpu/neighbor_search.hpp"
 
 namespace pbf {
 namespace {

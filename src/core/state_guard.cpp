@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "core/parallel.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/world_def.hpp"
 
 namespace pbf {
 namespace {
@@ -29,7 +29,7 @@ bool finite(const Vec3& v) {
 std::string describeProblem(const Vec3& x, const Vec3& v, double speedLimit) {
     if (!finite(x)) return fmt::format("position is not finite ({}, {}, {})", x.x, x.y, x.z);
     if (!finite(v)) return fmt::format("velocity is not finite ({}, {}, {})", v.x, v.y, v.z);
-    return fmt::format("speed {:.4g} m/s exceeds the limit of {:.4g} m/s (output.max_speed)",
+    return fmt::format("speed {:.4g} m/s exceeds the limit of {:.4g} m/s (guard.max_speed)",
                        std::sqrt(double(lengthSquared(v))), speedLimit);
 }
 
@@ -65,17 +65,17 @@ std::optional<BadParticle> findBadParticle(const ParticleStore& p, double speedL
     return bad;
 }
 
-double speedLimit(const Scene& scene) {
-    if (scene.output.maxSpeed > 0.0f) return scene.output.maxSpeed;
-    const SimulationParams& sim = scene.simulation;
+double speedLimit(const WorldDef& def) {
+    if (def.guard.maxSpeed > 0.0f) return def.guard.maxSpeed;
+    const SimulationParams& sim = def.simulation;
     const double diagonal = length(sim.domain.extent());
     double reference = std::sqrt(2.0 * double(length(sim.gravity)) * diagonal);
     double blockSpeed = 0.0;
-    for (const FluidBlock& b : scene.fluidBlocks)
+    for (const FluidBlock& b : def.fluidBlocks)
         blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
     reference += blockSpeed;
-    if (!(reference > 0.0)) reference = diagonal * scene.output.fps;
-    return double(scene.output.maxSpeedFactor) * reference;
+    if (!(reference > 0.0)) reference = diagonal * def.fps;
+    return double(def.guard.maxSpeedFactor) * reference;
 }
 
 }  // namespace pbf

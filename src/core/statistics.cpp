@@ -70,8 +70,16 @@ StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants&
                           float(total.pz * c.particleMass)};
     stats.escaped = total.escaped;
     stats.insideSolid = total.insideSolid;
-    stats.insideSolid = total.insideSolid;
     return stats;
+}
+
+float maxSpeed(const ParticleStore& p) {
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(p.size());
+    float maxSquared = 0.0f;
+#pragma omp parallel for reduction(max : maxSquared) num_threads(threadCount()) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+        maxSquared = std::max(maxSquared, lengthSquared(p.velocity.get(i)));
+    return std::sqrt(maxSquared);
 }
 
 }  // namespace pbf

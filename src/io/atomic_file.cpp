@@ -70,4 +70,17 @@ void writeFileAtomically(const std::filesystem::path& path,
     }
 }
 
+void appendToFile(const std::filesystem::path& path, std::string_view text) {
+    errno = 0;
+    const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) throw IoError(describe(path, "cannot open for appending" + lastError()));
+    // One write: a regular file takes it whole or (disk full) reports a short write.
+    errno = 0;
+    const ::ssize_t written = ::write(fd, text.data(), text.size());
+    const std::string reason = lastError();
+    const bool closed = ::close(fd) == 0;
+    if (written != static_cast<::ssize_t>(text.size()) || !closed)
+        throw IoError(describe(path, "write failed (disk full?)" + reason));
+}
+
 }  // namespace pbf

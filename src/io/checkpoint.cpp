@@ -11,7 +11,7 @@
 
 #include "core/hash.hpp"
 #include "pbf/io.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "pbf/version.hpp"
 
 namespace pbf {
@@ -175,37 +175,43 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
 
 }  // namespace
 
-Checkpoint captureCheckpoint(const Simulation& simulation) {
+Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint) {
+    WorldState state = world.captureState();
     Checkpoint c;
-    c.sceneFingerprint = simulation.scene().fingerprint;
+    c.sceneFingerprint = sceneFingerprint;
     c.pbfVersion = kVersion;
-    c.frame = simulation.frame();
-    c.time = simulation.time();
-    c.particles = simulation.particles();
-    for (const Emitter& e : simulation.emitters()) c.emitters.push_back(e.state());
+    c.frame = state.frame;
+    c.time = state.time;
+    c.particles = std::move(state.particles);
+    c.emitters = std::move(state.emitters);
     return c;
 }
 
-void restoreCheckpoint(const Checkpoint& c, Simulation& simulation, const std::string& name) {
+void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFingerprint,
+                       const std::string& name) {
     if (c.pbfVersion != kVersion)
         fail(name,
              fmt::format(
                  "checkpoint written by pbf {}, this is pbf {}: solvers of different versions "
                  "give different results; start the run again without --resume",
                  c.pbfVersion, kVersion));
-    if (c.sceneFingerprint != simulation.scene().fingerprint)
+    if (c.sceneFingerprint != sceneFingerprint)
         fail(name,
              fmt::format(
                  "checkpoint belongs to a different scene (fingerprint {:016x}, this scene and "
                  "its --set overrides give {:016x}): resume with the same scene and the same "
                  "overrides, or start again without --resume",
-                 c.sceneFingerprint, simulation.scene().fingerprint));
-    if (c.emitters.size() != simulation.emitters().size())
+                 c.sceneFingerprint, sceneFingerprint));
+    if (c.emitters.size() != world.emitters().size())
         fail(name, fmt::format("corrupt checkpoint: {} emitter states for a scene with {} emitters",
-                               c.emitters.size(), simulation.emitters().size()));
-    ParticleStore p = c.particles;
-    p.predicted = p.position;
-    simulation.restore(std::move(p), c.frame, c.time, c.emitters);
+                               c.emitters.size(), world.emitters().size()));
+    WorldState state;
+    state.particles = c.particles;
+    state.particles.predicted = state.particles.position;
+    state.emitters = c.emitters;
+    state.frame = c.frame;
+    state.time = c.time;
+    world.restoreState(std::move(state));
 }
 
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {

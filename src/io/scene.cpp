@@ -8,19 +8,12 @@
 
 #include "core/hash.hpp"
 #include "io/json_reader.hpp"
-#include "pbf/emitter.hpp"
 
 namespace pbf {
 namespace {
 
 using detail::JsonReader;
 using nlohmann::json;
-
-// Particles along one axis of a block: lattice cells of edge `spacing` that fit.
-// Capped so that absurd sizes stay representable and are refused later.
-long long latticeCount(float extent, float spacing) {
-    return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
-}
 
 // nlohmann::json parses iteratively but dumps recursively (error messages
 // quote values, the fingerprint dumps the document): a scene nested 10^6
@@ -137,33 +130,13 @@ SolverParams readSolver(JsonReader r) {
     return s;
 }
 
-bool overlaps(const Aabb& a, const Aabb& b) {
-    return a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y &&
-           a.min.z < b.max.z && b.min.z < a.max.z;
-}
-
+// Ranges, overlaps and placement are checked by validate(WorldDef).
 void readFluidBlocks(JsonReader& root, Scene& scene) {
     const json& blocks = root.array("fluid_blocks");
-    if (blocks.empty() && scene.emitters.empty())
-        root.fail("fluid_blocks", "at least one fluid block (or an emitter) is required");
-    const SimulationParams& sim = scene.simulation;
-    const float spacing = sim.particleSpacing();
     for (std::size_t i = 0; i < blocks.size(); ++i) {
         JsonReader r(blocks[i], "fluid_blocks[" + std::to_string(i) + "]", scene.source);
         FluidBlock block{readBox(r), r.vec3("velocity", {})};
         r.finish();
-        const Aabb& d = sim.domain;
-        if (!d.contains(block.box.min) || !d.contains(block.box.max))
-            r.fail("min", "the block must lie inside the domain");
-        const Vec3 e = block.box.extent();
-        if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
-            latticeCount(e.z, spacing) < 1)
-            r.fail("max",
-                   "the block is empty: every side must be at least one particle spacing (2 r = " +
-                       std::to_string(spacing) + " m) long");
-        for (std::size_t k = 0; k < scene.fluidBlocks.size(); ++k)
-            if (overlaps(block.box, scene.fluidBlocks[k].box))
-                r.fail("min", "overlaps fluid_blocks[" + std::to_string(k) + "]");
         scene.fluidBlocks.push_back(block);
     }
 }
@@ -244,21 +217,11 @@ void readEmitters(JsonReader& root, Scene& scene) {
         e.field = "emitters[" + std::to_string(i) + "]";
         JsonReader r(emitters[i], e.field, scene.source);
         e.position = r.requiredVec3("position");
-        if (!scene.simulation.domain.contains(e.position))
-            r.fail("position", "must lie inside the domain");
         e.direction = direction(r, "direction", e.direction);
         e.radius = positive(r, "radius", 0.0f);
-        if (e.radius < scene.simulation.particleRadius)
-            r.fail("radius", "must be at least the particle radius");
-        const Vec3 extent = scene.simulation.domain.extent();
-        if (e.radius > std::max(extent.x, std::max(extent.y, extent.z)))
-            r.fail("radius", "must not exceed the domain's size");
         e.speed = positive(r, "speed", 0.0f);
-        if (e.speed > 100.0f) r.fail("speed", "must be at most 100 m/s");
         e.start = r.number("start", 0.0f);
-        if (e.start < 0.0f) r.fail("start", "must be >= 0 s");
         e.end = r.number("end", e.end);
-        if (!(e.end > e.start)) r.fail("end", "must be later than start");
         const int budget = r.integer("max_particles", 0);
         if (budget < 0) r.fail("max_particles", "must be >= 0 (0: no budget)");
         e.maxParticles = static_cast<std::size_t>(budget);
@@ -273,9 +236,10 @@ void readEmitters(JsonReader& root, Scene& scene) {
 // to the format later are covered without changes here.
 std::uint64_t fingerprintOf(json document) {
     document.erase("name");
+    document.erase("guard");  // stops a run, never changes a state
     if (auto out = document.find("output"); out != document.end() && out->is_object()) {
         json kept = json::object();
-        if (out->contains("fps")) kept["fps"] = (*out)["fps"];
+        if (out->contains("fps")) kept["fps"] = (*out)["fps"];  // the frame length
         if (kept.empty())
             document.erase(out);
         else
@@ -290,20 +254,6 @@ std::string defaultName(const std::string& source) {
 }
 
 }  // namespace
-
-std::size_t emitterDiscSize(const Scene& scene, const EmitterDescription& e) {
-    return emitterDisc(e, scene.simulation.particleRadius).size();
-}
-
-std::size_t emitterBudget(const Scene& scene, const EmitterDescription& e) {
-    const double runEnd = scene.output.frames / double(scene.output.fps);
-    const double duration = std::max(0.0, std::min<double>(e.end, runEnd) - e.start);
-    const double rate =
-        double(emitterDiscSize(scene, e)) * e.speed / scene.simulation.particleSpacing();
-    const double count = std::min(rate * duration + double(emitterDiscSize(scene, e)), 1e12);
-    const auto byTime = static_cast<std::size_t>(count);
-    return e.maxParticles > 0 ? std::min(byTime, e.maxParticles) : byTime;
-}
 
 SceneOverride parseOverride(std::string_view assignment) {
     const std::size_t eq = assignment.find('=');
@@ -367,8 +317,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     {
         JsonReader o = root.object("output");
         OutputParams& out = scene.output;
-        out.fps = o.number("fps", out.fps);
-        if (!(out.fps > 0.0f && out.fps <= 10000.0f)) o.fail("fps", "must be in (0, 10000]");
+        scene.fps = o.number("fps", scene.fps);
         out.frames = o.integer("frames", out.frames);
         if (out.frames < 1 || out.frames > 1000000) o.fail("frames", "must be in [1, 1000000]");
         out.directory = o.string("directory", "out/" + scene.name);
@@ -381,18 +330,26 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.checkpointSeconds = o.number("checkpoint_seconds", out.checkpointSeconds);
         if (!(out.checkpointSeconds >= 0.0f && out.checkpointSeconds <= 1e6f))
             o.fail("checkpoint_seconds", "must be in [0, 1000000] seconds (0: off)");
-        out.maxSpeed = o.number("max_speed", out.maxSpeed);
-        if (!(out.maxSpeed >= 0.0f && out.maxSpeed <= 1e6f))
-            o.fail("max_speed", "must be in [0, 1000000] m/s (0: automatic)");
-        out.maxSpeedFactor = o.number("max_speed_factor", out.maxSpeedFactor);
-        if (!(out.maxSpeedFactor >= 1.0f && out.maxSpeedFactor <= 1e4f))
-            o.fail("max_speed_factor", "must be in [1, 10000]");
+        out.writeCheckpoints = o.boolean("checkpoints", out.writeCheckpoints);
+        for (const char* moved : {"max_speed", "max_speed_factor"})
+            if (o.has(moved))
+                o.fail(moved, std::string("moved to guard.") + moved +
+                                  " (the state guard is not an output setting)");
         o.finish();
+    }
+    {
+        JsonReader g = root.object("guard");
+        scene.guard.maxSpeed = g.number("max_speed", scene.guard.maxSpeed);
+        scene.guard.maxSpeedFactor = g.number("max_speed_factor", scene.guard.maxSpeedFactor);
+        g.finish();
     }
     readSolids(root, scene);
     readEmitters(root, scene);
-    if (root.has("fluid_blocks") || scene.emitters.empty()) readFluidBlocks(root, scene);
+    readFluidBlocks(root, scene);
     root.finish();
+    if (const std::string problem = validate(static_cast<const WorldDef&>(scene));
+        !problem.empty())
+        throw SceneError(sourceName + ": " + problem);
     scene.fingerprint = fingerprintOf(std::move(document));
     return scene;
 }
@@ -412,106 +369,6 @@ Scene loadScene(const std::filesystem::path& file, const std::vector<SceneOverri
     std::ostringstream text;
     text << in.rdbuf();
     return parseScene(text.str(), name, overrides);
-}
-
-std::size_t countParticles(const Scene& scene) {
-    const float spacing = scene.simulation.particleSpacing();
-    double total = 0.0;
-    for (const FluidBlock& b : scene.fluidBlocks) {
-        const Vec3 e = b.box.extent();
-        total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
-                 double(latticeCount(e.z, spacing));
-    }
-    if (total > 4e9)
-        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(total) +
-                         " particles exceed the 32-bit particle index");
-    return static_cast<std::size_t>(total);
-}
-
-std::shared_ptr<const SolidSet> buildSolids(const Scene& scene) {
-    auto set = std::make_shared<SolidSet>();
-    const SimulationParams& sim = scene.simulation;
-    for (const SolidDescription& d : scene.solids) {
-        using Kind = SolidDescription::Kind;
-        switch (d.kind) {
-            case Kind::Box:
-                set->add(makeBoxSolid(d.box));
-                break;
-            case Kind::Sphere:
-                set->add(makeSphereSolid(d.center, d.radius));
-                break;
-            case Kind::Plane:
-                set->add(makePlaneSolid(d.point, d.normal, sim.domain));
-                break;
-            case Kind::Cylinder:
-                set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height));
-                break;
-            case Kind::Mesh: {
-                MeshSolidOptions options;
-                options.voxelSize = 0.5f * sim.particleRadius;
-                options.bandWidth = sim.kernelRadius() + 2.0f * sim.particleRadius;
-                options.shellThickness = sim.particleRadius;
-                try {
-                    set->add(loadMeshSolid(d.file, d.transform, options));
-                } catch (const SolidError& e) {
-                    throw SceneError(scene.source + ": " + d.field + ".file: " + e.what());
-                }
-                break;
-            }
-        }
-    }
-    return set;
-}
-
-ParticleStore createParticles(const Scene& scene, const SolidSet* solids, std::size_t* skipped) {
-    const SimulationParams& sim = scene.simulation;
-    const float r = sim.particleRadius;
-    const float spacing = sim.particleSpacing();
-    ParticleStore store;
-    store.reserve(countParticles(scene));
-    std::size_t rejected = 0;
-    for (const FluidBlock& b : scene.fluidBlocks) {
-        const Vec3 e = b.box.extent();
-        const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
-                        nz = latticeCount(e.z, spacing);
-        for (long long k = 0; k < nz; ++k)
-            for (long long j = 0; j < ny; ++j)
-                for (long long i = 0; i < nx; ++i) {
-                    const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
-                                                    r + float(k) * spacing};
-                    Vec3 normal;
-                    // A particle spawned inside (or touching) a solid would be
-                    // shot out of it: leave the site empty instead.
-                    if (solids && solids->signedDistance(x, r, normal) < r) {
-                        ++rejected;
-                        continue;
-                    }
-                    store.add(x, b.velocity, sim.fluid.restDensity);
-                }
-    }
-    if (skipped) *skipped = rejected;
-    return store;
-}
-
-std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
-    // Particle store (9 floats of state, density, id, reorder scratch) plus
-    // solver scratch (lambda, delta, vorticity, grid keys, CSR offsets) plus
-    // the neighbour list: ~(4/3) pi (h / 2r)^3 neighbours, 4 bytes each, with
-    // the list's 25 % growth headroom.
-    const double ratio = params.solver.kernelRadiusFactor / 2.0;
-    const double neighbors = 4.0 / 3.0 * 3.14159265358979 * ratio * ratio * ratio;
-    return static_cast<std::size_t>(4 * 13 + 4 * 8 + 8 + neighbors * 4 * 1.25 + 0.5);
-}
-
-void checkMemory(const Scene& scene, std::size_t availableBytes) {
-    const double needed =
-        double(countParticles(scene)) * double(estimatedBytesPerParticle(scene.simulation));
-    if (needed > double(availableBytes))
-        throw SceneError(scene.source + ": fluid_blocks: " + std::to_string(countParticles(scene)) +
-                         " particles need about " +
-                         std::to_string(static_cast<long long>(needed / (1 << 20))) +
-                         " MiB, more than the " + std::to_string(availableBytes >> 20) +
-                         " MiB of memory available; use larger particles or smaller blocks");
 }
 
 }  // namespace pbf

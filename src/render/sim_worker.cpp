@@ -5,7 +5,7 @@
 namespace pbf::render {
 
 SimulationWorker::SimulationWorker(const Scene& scene, bool playing)
-    : scene_(scene), playing_(playing), thread_([this] { run(); }) {}
+    : definition_(scene), playing_(playing), thread_([this] { run(); }) {}
 
 SimulationWorker::~SimulationWorker() {
     quit_ = true;
@@ -59,9 +59,8 @@ std::string SimulationWorker::lastError() const {
     return error_;
 }
 
-void SimulationWorker::publish(const Simulation& simulation, const FrameReport* stepped,
-                               double frameMs) {
-    const ParticleStore& p = simulation.particles();
+void SimulationWorker::publish(const World& world, const FrameReport* stepped, double frameMs) {
+    const ParticleStore& p = world.particles();
     const std::size_t n = p.size();
     Snapshot s;
     s.xyz.resize(3 * n);
@@ -73,56 +72,88 @@ void SimulationWorker::publish(const Simulation& simulation, const FrameReport* 
         s.xyz[3 * i + 2] = p.position.z[i];
         s.speed[i] = length(p.velocity.get(i));
     }
-    s.report = stepped != nullptr ? *stepped : simulation.report();
+    s.report = stepped != nullptr ? *stepped : world.report();
     s.frameMs = frameMs;
     std::lock_guard lock(mutex_);
     s.version = snapshot_.version + 1;
     snapshot_ = std::move(s);
 }
 
-void SimulationWorker::run() {
+void SimulationWorker::applyPendingSettings(World& world) {
+    std::optional<SimulationParams> params;
+    {
+        std::lock_guard lock(mutex_);
+        params.swap(pendingParams_);
+    }
+    if (!params) return;
+    std::string error;
+    try {
+        world.applySettings(*params);
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    std::lock_guard lock(mutex_);
+    error_ = error;
+}
+
+void SimulationWorker::stepOneFrame(World& world) {
     using Clock = std::chrono::steady_clock;
-    auto simulation = std::make_unique<Simulation>(scene_);
-    publish(*simulation, nullptr, 0.0);
+    const auto t0 = Clock::now();
+    const FrameResult result = world.stepFrame();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (!result.ok()) {
+        // The world holds the failing state: stop here, say why, keep the
+        // last good snapshot on screen until a reset.
+        failed_ = true;
+        playing_ = false;
+        stepRequests_ = 0;
+        std::lock_guard lock(mutex_);
+        error_ = result.error->message;
+        return;
+    }
+    frames_ = world.frame();
+    {
+        std::lock_guard lock(mutex_);
+        totalFrameMs_ += ms;
+        ++timedFrames_;
+    }
+    publish(world, &result.report, ms);
+}
+
+void SimulationWorker::run() {
+    std::unique_ptr<World> world;
+    try {
+        world = std::make_unique<World>(definition_);
+    } catch (const std::exception& e) {
+        failed_ = true;
+        playing_ = false;
+        std::lock_guard lock(mutex_);
+        error_ = e.what();
+    }
+    if (world) publish(*world, nullptr, 0.0);
     while (!quit_) {
-        std::optional<SimulationParams> params;
-        {
-            std::lock_guard lock(mutex_);
-            params.swap(pendingParams_);
-        }
-        if (params) {
-            try {
-                simulation->setParams(*params);
-                scene_.simulation = *params;
+        if (world) applyPendingSettings(*world);
+        if (resetRequest_.exchange(false) && world) {
+            // Back to the initial state, with the settings in use now.
+            const SimulationParams settings = world->settings();
+            world = std::make_unique<World>(definition_);
+            world->applySettings(settings);
+            frames_ = 0;
+            failed_ = false;
+            {
                 std::lock_guard lock(mutex_);
                 error_.clear();
-            } catch (const std::exception& e) {
-                std::lock_guard lock(mutex_);
-                error_ = e.what();
             }
-        }
-        if (resetRequest_.exchange(false)) {
-            simulation = std::make_unique<Simulation>(scene_);
-            frames_ = 0;
-            publish(*simulation, nullptr, 0.0);
+            publish(*world, nullptr, 0.0);
         }
         const int stopAt = pauseAt_;
-        if (stopAt >= 0 && simulation->frame() >= stopAt) {
+        if (stopAt >= 0 && world && world->frame() >= stopAt) {
             playing_ = false;
             pauseAt_ = -1;
         }
-        if (playing_ || stepRequests_ > 0) {
+        if (world && !failed_ && (playing_ || stepRequests_ > 0)) {
             if (stepRequests_ > 0) --stepRequests_;
-            const auto t0 = Clock::now();
-            const FrameReport report = simulation->advanceFrame();
-            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-            frames_ = simulation->frame();
-            {
-                std::lock_guard lock(mutex_);
-                totalFrameMs_ += ms;
-                ++timedFrames_;
-            }
-            publish(*simulation, &report, ms);
+            stepOneFrame(*world);
             continue;
         }
         std::unique_lock lock(mutex_);

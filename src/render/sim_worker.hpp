@@ -1,7 +1,9 @@
-// The viewer's simulation thread: steps a pbf::Simulation while the UI
-// thread draws, so that a slow step never stalls the window. The UI sends
-// commands (play, pause, step, reset, new parameters) and takes the latest
-// published snapshot; neither thread waits for the other's work.
+// The viewer's simulation thread: steps a pbf::World while the UI thread
+// draws, so that a slow step never stalls the window. The UI sends commands
+// (play, pause, step, reset, new settings) and takes the latest published
+// snapshot; neither thread waits for the other's work. A frame that fails
+// (the state guard, after a settings change say) pauses the worker and is
+// reported by lastError(); it steps again after a reset.
 #pragma once
 
 #include <atomic>
@@ -15,7 +17,7 @@
 #include <vector>
 
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::render {
 
@@ -40,7 +42,8 @@ class SimulationWorker {
     bool playing() const { return playing_; }
     void requestStep();   // one frame, when paused
     void requestReset();  // back to the scene's initial state (keeps current parameters)
-    // Applied between frames; an invalid set is refused and reported by lastError().
+    // Applied between frames (World::applySettings); an invalid set is
+    // refused and reported by lastError().
     void setParams(const SimulationParams& params);
     // Plays until the simulation has completed `frame` frames, then pauses.
     void pauseAt(int frame);
@@ -50,18 +53,23 @@ class SimulationWorker {
     int framesSimulated() const { return frames_; }
     double averageFrameMs() const;
     std::string lastError() const;
+    // A frame failed; no more steps until requestReset().
+    bool failed() const { return failed_; }
 
   private:
     void run();
-    void publish(const Simulation& simulation, const FrameReport* stepped, double frameMs);
+    void publish(const World& world, const FrameReport* stepped, double frameMs);
+    void applyPendingSettings(World& world);
+    void stepOneFrame(World& world);
 
-    Scene scene_;
+    WorldDef definition_;
     std::atomic<bool> playing_;
     std::atomic<bool> quit_{false};
     std::atomic<int> stepRequests_{0};
     std::atomic<bool> resetRequest_{false};
     std::atomic<int> pauseAt_{-1};
     std::atomic<int> frames_{0};
+    std::atomic<bool> failed_{false};
 
     mutable std::mutex mutex_;  // guards everything below
     std::condition_variable wake_;

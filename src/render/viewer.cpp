@@ -219,14 +219,16 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
 
         // Batch mode: a few UI frames after the last simulated one let the
         // panel settle its layout; then the back buffer is saved.
-        if (batch && snapshot.report.frame >= options.frames && !worker.playing() &&
-            ++settledFrames >= 3) {
+        const bool batchDone =
+            (snapshot.report.frame >= options.frames || worker.failed()) && !worker.playing();
+        if (batch && batchDone && ++settledFrames >= 3) {
             writePng(options.screenshot, readFramebuffer(0, width, height));
             glfwSetWindowShouldClose(window.handle, GLFW_TRUE);
         }
         glfwSwapBuffers(window.handle);
     }
     summary.framesSimulated = worker.framesSimulated();
+    if (worker.failed()) summary.error = worker.lastError();
     summary.averageStepMs = worker.averageFrameMs();
     summary.averageRenderMs = summary.framesDrawn > 0 ? renderMsTotal / summary.framesDrawn : 0.0;
     return summary;

@@ -13,7 +13,8 @@
 namespace pbf::detail {
 namespace {
 
-void writeSummary(const std::filesystem::path& file, const Scene& scene, const RunSummary& s) {
+void writeSummary(const std::filesystem::path& file, const Scene& scene, BackendKind backend,
+                  const RunSummary& s) {
     nlohmann::json j;
     j["pbf_version"] = kVersion;
     j["scene"] = scene.name;
@@ -32,6 +33,8 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const R
     j["skipped_in_solids"] = s.skippedInSolids;
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
+    j["backend"] = std::string(backendName(backend));
+    if (s.error) j["error"] = s.error->message;
     writeFileAtomically(file, [&](std::ostream& out) {
         out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
     });
@@ -48,6 +51,13 @@ std::uintmax_t plyBytes(std::size_t particles) {
 }
 
 }  // namespace
+
+RunDriver::RunDriver(const Scene& scene, const RunOptions& options)
+    : scene_(scene),
+      options_(options),
+      output_(scene.output),
+      dir_(scene.output.directory),
+      world_(scene, options.world) {}
 
 void RunDriver::createDirectory() const {
     std::error_code ec;
@@ -77,29 +87,29 @@ void RunDriver::resumeFromCheckpoint() {
                       ": no checkpoint to resume from; run without --resume to start at frame 0");
     removeStaleTemporaries();
     Checkpoint checkpoint = readCheckpoint(file);
-    restoreCheckpoint(checkpoint, simulation_, file.string());
+    restoreCheckpoint(checkpoint, world_, scene_.fingerprint, file.string());
     totals_ = std::move(checkpoint.totals);
     previousWallSeconds_ = totals_.wallSeconds;
-    summary_.resumedFromFrame = simulation_.frame();
-    lastCheckpointFrame_ = simulation_.frame();
+    summary_.resumedFromFrame = world_.frame();
+    lastCheckpointFrame_ = world_.frame();
     summary_.checkpoint = file;
     // stats.csv may hold rows of frames computed after the checkpoint by the
     // killed run: put it back to the checkpoint's rows; they are recomputed.
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
-    notice(simulation_.frame() >= options_.frames
+    notice(world_.frame() >= output_.frames
                ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}",
-                             file.string(), simulation_.frame(), options_.frames)
-               : fmt::format("resuming from frame {} of {} ({})", simulation_.frame(),
-                             options_.frames, file.string()));
+                             file.string(), world_.frame(), output_.frames)
+               : fmt::format("resuming from frame {} of {} ({})", world_.frame(),
+                             output_.frames, file.string()));
 }
 
 void RunDriver::warnIfDiskTooSmall() const {
     std::error_code ec;
     const fs::space_info space = fs::space(dir_, ec);
-    const int remaining = options_.frames - simulation_.frame();
+    const int remaining = output_.frames - world_.frame();
     if (ec || remaining <= 0) return;
-    const std::size_t n = simulation_.particles().size();
-    const double needed = double(options_.writeParticles ? plyBytes(n) : 0) * remaining +
+    const std::size_t n = world_.particleCount();
+    const double needed = double(output_.writeParticles ? plyBytes(n) : 0) * remaining +
                           double(checkpointBytes(n, totals_.statsCsv.size()));
     if (double(space.available) < needed)
         notice(fmt::format(
@@ -115,9 +125,8 @@ void RunDriver::checkFreeSpace() const {
     std::error_code ec;
     const fs::space_info space = fs::space(dir_, ec);
     if (ec) return;  // unknown (some network file systems): the writes report failures
-    const std::size_t n = simulation_.particles().size();
-    const std::uintmax_t frame =
-        (options_.writeParticles ? plyBytes(n) : 0) + totals_.statsCsv.size() + 256;
+    const std::size_t n = world_.particleCount();
+    const std::uintmax_t frame = (output_.writeParticles ? plyBytes(n) : 0) + 512;  // + a stats row
     const std::uintmax_t needed = frame + checkpointBytes(n, totals_.statsCsv.size());
     if (space.available < needed + options_.reserveBytes)
         throw IoError(
@@ -129,13 +138,19 @@ void RunDriver::checkFreeSpace() const {
                         double(options_.reserveBytes) / kMiB));
 }
 
+void RunDriver::startStats() {
+    totals_.statsCsv = statsCsvHeader() + "\n";
+    writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
+}
+
 void RunDriver::record(const FrameReport& report) {
     checkFreeSpace();
-    if (options_.writeParticles)
-        writeParticlesPly(dir_ / frameFileName(report.frame), simulation_.particles());
-    if (options_.writeFrame) options_.writeFrame(report.frame, simulation_.particles());
-    totals_.statsCsv += statsCsvRow(report) + "\n";
-    writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
+    if (output_.writeParticles)
+        writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
+    if (options_.writeFrame) options_.writeFrame(report.frame, world_);
+    const std::string row = statsCsvRow(report) + "\n";
+    appendToFile(dir_ / "stats.csv", row);
+    totals_.statsCsv += row;
     totals_.maxDensityError = std::max(totals_.maxDensityError, report.state.maxDensityError);
     totals_.maxEscaped = std::max<std::uint64_t>(totals_.maxEscaped, report.state.escaped);
     totals_.maxInsideSolid =
@@ -144,93 +159,96 @@ void RunDriver::record(const FrameReport& report) {
     totals_.substeps += report.substeps;
     totals_.solverMilliseconds += report.stageMs.total;
     if (options_.onFrame) options_.onFrame(report);
-
-    // Keep this frame's state: it is what a checkpoint saves, now or when a
-    // later step goes bad. The CSV only grows, so its length marks the rows.
-    lastGood_ = captureCheckpoint(simulation_);
-    lastGoodCsvBytes_ = totals_.statsCsv.size();
-    RunTotals totals = totals_;
-    totals.statsCsv.clear();
-    lastGood_.totals = std::move(totals);
 }
 
-void RunDriver::saveLastGood() {
-    lastGood_.totals.statsCsv = totals_.statsCsv.substr(0, lastGoodCsvBytes_);
-    lastGood_.totals.wallSeconds = wallSeconds();
+// The state is captured only here, when a checkpoint is due (not every frame).
+void RunDriver::saveCheckpoint() {
+    Checkpoint checkpoint = captureCheckpoint(world_, scene_.fingerprint);
+    checkpoint.totals = totals_;
+    checkpoint.totals.wallSeconds = wallSeconds();
     const fs::path file = dir_ / kCheckpointFileName;
-    writeCheckpoint(file, lastGood_);
-    lastGood_.totals.statsCsv.clear();
+    writeCheckpoint(file, checkpoint);
     summary_.checkpoint = file;
-    lastCheckpointFrame_ = lastGood_.frame;
+    lastCheckpointFrame_ = world_.frame();
     lastCheckpointTime_ = Clock::now();
 }
 
 bool RunDriver::checkpointDue() const {
-    const int frames = simulation_.frame() - lastCheckpointFrame_;
+    if (!output_.writeCheckpoints) return false;
+    const int frames = world_.frame() - lastCheckpointFrame_;
     const double seconds =
         std::chrono::duration<double>(Clock::now() - lastCheckpointTime_).count();
-    return (options_.checkpointEvery > 0 && frames >= options_.checkpointEvery) ||
-           (options_.checkpointSeconds > 0.0 && seconds >= options_.checkpointSeconds);
+    return (output_.checkpointEvery > 0 && frames >= output_.checkpointEvery) ||
+           (output_.checkpointSeconds > 0.0 && seconds >= output_.checkpointSeconds);
 }
 
-void RunDriver::advance() {
-    FrameReport report;
-    try {
-        report = simulation_.advanceFrame();
-    } catch (const StateError& e) {
-        saveLastGood();
-        throw StateError(
-            fmt::format("{}; the run stopped: frames up to {} are good and their state is saved "
-                        "in {} (raise output.max_speed or change the scene to go on)",
-                        e.what(), lastGood_.frame, summary_.checkpoint.string()),
-            e.frame, e.substep, e.stage, e.particle);
-    }
-    record(report);
+// A frame failed: the frames before it are written; the world holds the
+// failing state, so nothing is checkpointed now. The last checkpoint (if
+// any) is where the run can be continued from.
+void RunDriver::fail(StepError error) {
+    const int lastGood = error.frame - 1;
+    std::string where;
+    if (!summary_.checkpoint.empty() && lastCheckpointFrame_ >= 0)
+        where = fmt::format(
+            "; continue from the checkpoint of frame {} ({}) with --resume after raising "
+            "guard.max_speed or changing the settings",
+            lastCheckpointFrame_, summary_.checkpoint.string());
+    else
+        where = "; there is no checkpoint yet: change the scene and run again from frame 0";
+    error.message = fmt::format("{}; the run stopped: frames up to {} are written{}",
+                                error.message, lastGood, where);
+    summary_.error = std::move(error);
 }
 
 RunSummary RunDriver::run() {
     createDirectory();
-    summary_.skippedInSolids = simulation_.skippedParticles();
-    if (options_.onStart) options_.onStart(simulation_);
+    summary_.skippedInSolids = world_.skippedParticles();
+    if (options_.onStart) options_.onStart(world_);
     if (options_.resume) {
         resumeFromCheckpoint();
-        lastGood_ = captureCheckpoint(simulation_);
-        lastGoodCsvBytes_ = totals_.statsCsv.size();
-        RunTotals totals = totals_;
-        totals.statsCsv.clear();
-        lastGood_.totals = std::move(totals);
     } else {
-        totals_.statsCsv = statsCsvHeader() + "\n";
-        record(simulation_.report());
+        startStats();
+        record(world_.report());
         lastCheckpointFrame_ = 0;  // frame 0 is recreated from the scene; no checkpoint needed
     }
     warnIfDiskTooSmall();
-    while (simulation_.frame() < options_.frames) {
+    while (world_.frame() < output_.frames) {
         if (options_.stopRequested && options_.stopRequested()) {
             summary_.interrupted = true;
             break;
         }
-        advance();
-        if (checkpointDue()) saveLastGood();
+        FrameResult result = world_.stepFrame();
+        if (!result.ok()) {
+            fail(std::move(*result.error));
+            break;
+        }
+        record(result.report);
+        if (checkpointDue()) saveCheckpoint();
     }
-    if (lastCheckpointFrame_ != simulation_.frame() || summary_.checkpoint.empty()) saveLastGood();
+    if (!summary_.error && output_.writeCheckpoints &&
+        (lastCheckpointFrame_ != world_.frame() || summary_.checkpoint.empty()))
+        saveCheckpoint();
+    return finish();
+}
 
+RunSummary RunDriver::finish() {
     RunSummary& s = summary_;
-    s.frames = simulation_.frame();
-    s.lastFrame = simulation_.frame();
-    s.particles = simulation_.particles().size();
-    s.simulatedSeconds = simulation_.time();
+    const int completed = s.error ? s.error->frame - 1 : world_.frame();
+    s.frames = completed;
+    s.lastFrame = completed;
+    s.particles = world_.particleCount();
+    s.simulatedSeconds = completed * world_.frameDuration();
     s.wallSeconds = wallSeconds();
     s.substeps = totals_.substeps;
     s.maxDensityError = totals_.maxDensityError;
     s.maxEscaped = static_cast<std::size_t>(totals_.maxEscaped);
     s.maxInsideSolid = static_cast<std::size_t>(totals_.maxInsideSolid);
-    s.averageDensityError = totals_.densityErrorSum / (simulation_.frame() + 1);
+    s.averageDensityError = totals_.densityErrorSum / (completed + 1);
     s.particleStepsPerSecond =
         totals_.solverMilliseconds > 0.0
             ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
             : 0.0;
-    writeSummary(dir_ / "summary.json", scene_, s);
+    writeSummary(dir_ / "summary.json", scene_, world_.backend().kind(), s);
     return s;
 }
 

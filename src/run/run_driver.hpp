@@ -1,5 +1,6 @@
-// The loop of `pbf run` (private header): simulate frame by frame, write the
-// outputs, checkpoint, resume, stop on request or when the state guard fires.
+// The loop of `pbf run` (private header): step the world frame by frame,
+// write the outputs, checkpoint when due, resume, stop on request or when a
+// frame fails.
 #pragma once
 
 #include <chrono>
@@ -9,16 +10,13 @@
 
 #include "pbf/checkpoint.hpp"
 #include "pbf/run.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::detail {
 
-// One run: the simulation, the totals for summary.json and stats.csv, the
-// last good state (saved when the state guard fires) and the checkpoints.
 class RunDriver {
   public:
-    RunDriver(const Scene& scene, const RunOptions& options)
-        : scene_(scene), options_(options), dir_(options.outputDirectory), simulation_(scene) {}
+    RunDriver(const Scene& scene, const RunOptions& options);
 
     RunSummary run();
 
@@ -31,10 +29,12 @@ class RunDriver {
     void removeStaleTemporaries() const;
     void warnIfDiskTooSmall() const;
     void checkFreeSpace() const;
+    void startStats();
     void record(const FrameReport& report);
-    void advance();
     bool checkpointDue() const;
-    void saveLastGood();
+    void saveCheckpoint();
+    void fail(StepError error);
+    RunSummary finish();
     double wallSeconds() const {
         return previousWallSeconds_ +
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -42,12 +42,14 @@ class RunDriver {
 
     const Scene& scene_;
     const RunOptions& options_;
+    const OutputParams& output_;
     std::filesystem::path dir_;
-    Simulation simulation_;
+    World world_;
+    // Totals for summary.json; statsCsv holds every row so far (the file is
+    // appended to, the checkpoint carries the rows so that a resume can put
+    // the file back to them).
     RunTotals totals_;
     RunSummary summary_;
-    Checkpoint lastGood_;  // state and totals after the last recorded frame
-    std::size_t lastGoodCsvBytes_ = 0;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     double previousWallSeconds_ = 0.0;  // wall time of the sessions before a resume
     std::chrono::steady_clock::time_point lastCheckpointTime_ = std::chrono::steady_clock::now();

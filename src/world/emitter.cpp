@@ -26,8 +26,8 @@ Emitter::Emitter(const EmitterDescription& description, const SimulationParams& 
     : description_(description),
       disc_(emitterDisc(description, params.particleRadius)),
       particleRadius_(params.particleRadius),
-      spacing_(params.particleSpacing()),
-      restDensity_(params.fluid.restDensity) {
+      spacing_(params.particleSpacing()) {
+    description_.direction = description.direction * (1.0f / length(description.direction));
     const float r = params.particleRadius;
     inside_ = {params.domain.min + Vec3{r, r, r}, params.domain.max - Vec3{r, r, r}};
 }
@@ -36,13 +36,12 @@ double Emitter::rate() const {
     return double(disc_.size()) * description_.speed / spacing_;
 }
 
-void Emitter::emit(double time, double dt, ParticleStore& particles, const SolidSet* solids) {
+void Emitter::emit(double time, double dt, const SolidSet* solids, std::vector<Vec3>& positions) {
     const EmitterDescription& e = description_;
     const double from = std::max(time, double(e.start));
     const double to = std::min(time + dt, double(e.end));
     if (to <= from) return;
     travelled_ += e.speed * (to - from);
-    const Vec3 velocity = e.direction * e.speed;
     while (travelled_ >= spacing_) {
         if (e.maxParticles > 0 && emitted_ >= e.maxParticles) return;
         travelled_ -= spacing_;
@@ -55,7 +54,7 @@ void Emitter::emit(double time, double dt, ParticleStore& particles, const Solid
             if (!inside_.contains(x)) continue;
             if (solids && solids->signedDistance(x, particleRadius_, normal) < particleRadius_)
                 continue;
-            particles.add(x, velocity, restDensity_);
+            positions.push_back(x);
             ++emitted_;
         }
     }

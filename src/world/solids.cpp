@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 namespace pbf {
@@ -152,36 +151,61 @@ bool within(const Aabb& box, const Vec3& p, float reach) {
            p.y <= box.max.y + reach && p.z >= box.min.z - reach && p.z <= box.max.z + reach;
 }
 
-}  // namespace
-
-void SolidSet::add(std::unique_ptr<Solid> solid) {
-    bounds_.push_back(solid->bounds());
-    solids_.push_back(std::move(solid));
+Aabb worldBounds(const Aabb& local, const Pose& pose) {
+    if (pose.identity()) return local;
+    Aabb box{{1e30f, 1e30f, 1e30f}, {-1e30f, -1e30f, -1e30f}};
+    for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 p = pose.toWorld({(corner & 1) ? local.max.x : local.min.x,
+                                     (corner & 2) ? local.max.y : local.min.y,
+                                     (corner & 4) ? local.max.z : local.min.z});
+        box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y), std::min(box.min.z, p.z)};
+        box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y), std::max(box.max.z, p.z)};
+    }
+    return box;
 }
 
-float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal) const {
+}  // namespace
+
+void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion) {
+    shapes_.push_back(std::move(shape));
+    motions_.emplace_back();
+    identity_.push_back(true);
+    bounds_.emplace_back();
+    setMotion(shapes_.size() - 1, motion);
+}
+
+void SolidSet::setMotion(std::size_t i, const SolidMotion& motion) {
+    motions_.at(i) = motion;
+    identity_[i] = motion.pose.identity();
+    bounds_[i] = worldBounds(shapes_[i]->bounds(), motion.pose);
+    moving_ = false;
+    for (const SolidMotion& m : motions_)
+        moving_ = moving_ || !(m.velocity == Vec3{}) || !(m.angularVelocity == Vec3{});
+}
+
+float SolidSet::distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const {
+    if (identity_[k]) return shapes_[k]->signedDistance(p, normal);
+    const Pose& pose = motions_[k].pose;
+    Vec3 localNormal;
+    const float d = shapes_[k]->signedDistance(pose.toLocal(p), localNormal);
+    normal = pose.directionToWorld(localNormal);
+    return d;
+}
+
+float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
+                               std::size_t* nearest) const {
     float best = reach;
-    for (std::size_t k = 0; k < solids_.size(); ++k) {
+    for (std::size_t k = 0; k < shapes_.size(); ++k) {
         if (!within(bounds_[k], p, reach)) continue;
         Vec3 n;
-        const float d = solids_[k]->signedDistance(p, n);
+        const float d = distanceTo(k, p, n);
         if (d < best) {
             best = d;
             normal = n;
+            if (nearest) *nearest = k;
         }
     }
     return best;
-}
-
-Vec3 Transform::apply(const Vec3& p) const {
-    Vec3 q{p.x * scale.x, p.y * scale.y, p.z * scale.z};
-    const float rad = std::numbers::pi_v<float> / 180.0f;
-    const float ax = rotationDegrees.x * rad, ay = rotationDegrees.y * rad,
-                az = rotationDegrees.z * rad;
-    q = {q.x, std::cos(ax) * q.y - std::sin(ax) * q.z, std::sin(ax) * q.y + std::cos(ax) * q.z};
-    q = {std::cos(ay) * q.x + std::sin(ay) * q.z, q.y, -std::sin(ay) * q.x + std::cos(ay) * q.z};
-    q = {std::cos(az) * q.x - std::sin(az) * q.y, std::sin(az) * q.x + std::cos(az) * q.y, q.z};
-    return q + translation;
 }
 
 std::unique_ptr<Solid> makeBoxSolid(const Aabb& box) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <optional>
 
 #include "pbf/render/camera.hpp"
@@ -29,6 +30,7 @@ struct ViewerSummary {
     int framesDrawn = 0;
     double averageStepMs = 0.0;    // per simulated frame, on the worker thread
     double averageRenderMs = 0.0;  // per drawn frame, on the UI thread
+    std::string error;             // why the simulation stopped (a failed frame), if it did
 };
 
 // Throws RenderError when no window can be opened (no display: use `pbf render`).

@@ -13,7 +13,7 @@
 #include <cstdint>
 
 #include "backend/cpu/simd-inl.h"
-#include "backend/cpu/solver_boundary.hpp"
+#include "core/boundary.hpp"
 #include "backend/cpu/solver_stages.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -21,6 +21,9 @@ namespace pbf::stages::HWY_NAMESPACE {
 
 namespace hn = hwy::HWY_NAMESPACE;
 using namespace pbf::simd::HWY_NAMESPACE;
+using boundary::addSolidContribution;
+using boundary::addWallContribution;
+using boundary::clampToBox;
 
 // Per-lane geometry of a batch of neighbours j of particle i.
 struct PairBatch {
@@ -114,6 +117,20 @@ HWY_INLINE void forEachParticleInterleaved(const Pass& pass, std::size_t begin, 
     }
 }
 
+// Calls fn(begin, end, first list) for the parts of [begin, end) that lie
+// in one neighbour-list block each: a block's lists share one base index and
+// one width, and a stage's range need not match the blocks.
+template <class Fn>
+HWY_INLINE void forEachListBlock(const NeighborSearch& search, std::size_t begin, std::size_t end,
+                                 const Fn& fn) {
+    constexpr std::size_t kBlock = NeighborSearch::kListBlockSize;
+    while (begin < end) {
+        const std::size_t blockEnd = std::min(end, (begin / kBlock + 1) * kBlock);
+        fn(begin, blockEnd, search.neighbors(begin));
+        begin = blockEnd;
+    }
+}
+
 struct DensityPass {
     const SolverConstants& c;
     const SolidSet* solids;
@@ -178,27 +195,28 @@ void DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                       const NeighborSearch& search, const PackedPoint* predicted, float* density,
                       PackedPoint* withLambda, std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;
-    const NeighborList block = search.neighbors(begin);
-    const DensityPass pass{c,
-                           solids,
-                           search,
-                           predicted,
-                           predicted + block.base,
-                           density,
-                           withLambda,
-                           pairConstants(c.h, c.poly6.h2),
-                           gradScale,
-                           c.spiky.gradientCoefficient * gradScale};
-    if (block.wide)
-        forEachParticleInterleaved<DensityParticle<true>>(pass, begin, end);
-    else
-        forEachParticleInterleaved<DensityParticle<false>>(pass, begin, end);
+    forEachListBlock(search, begin, end,
+                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
+                         const DensityPass pass{c,
+                                                solids,
+                                                search,
+                                                predicted,
+                                                predicted + block.base,
+                                                density,
+                                                withLambda,
+                                                pairConstants(c.h, c.poly6.h2),
+                                                gradScale,
+                                                c.spiky.gradientCoefficient * gradScale};
+                         if (block.wide)
+                             forEachParticleInterleaved<DensityParticle<true>>(pass, first, last);
+                         else
+                             forEachParticleInterleaved<DensityParticle<false>>(pass, first, last);
+                     });
 }
 
 struct CorrectionPass {
     const SolverConstants& c;
     const SolidSet* solids;
-    float radius;
     const NeighborSearch& search;
     const Float3Array& start;
     const PackedPoint* withLambda;
@@ -259,11 +277,12 @@ struct CorrectionParticle {
         // x* + dp, projected into the collision box and out of the solids
         // (Alg. 1 l. 16-18).
         Vec3 moved = clampToBox(c.collisionBox, x + dp);
-        if (p.solids) moved = resolveSolidCollision(c, *p.solids, p.radius, p.start.get(i), moved);
+        if (p.solids) moved = boundary::resolveSolidCollision(c, *p.solids, p.start.get(i), moved);
         p.corrected[i] = {moved.x, moved.y, moved.z, 0.0f};
     }
 };
 
+// [begin, end) lies in one neighbour-list block.
 template <int Exponent>
 void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std::size_t end) {
     if (pass.search.neighbors(begin).wide)
@@ -272,31 +291,36 @@ void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std:
         forEachParticleInterleaved<CorrectionParticle<Exponent, false>>(pass, begin, end);
 }
 
-void CorrectPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+void CorrectPositions(const SolverConstants& c, const SolidSet* solids,
                       const NeighborSearch& search, const Float3Array& start,
                       const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
                       std::size_t end) {
     const FloatTag d;
-    const CorrectionPass pass{c,
-                              solids,
-                              radius,
-                              search,
-                              start,
-                              withLambda,
-                              withLambda + search.neighbors(begin).base,
-                              corrected,
-                              pairConstants(c.h, c.poly6.h2),
-                              hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
-                              hn::Set(d, c.scorrScale)};
     // One instantiation per exponent allowed by validate() (n in [1, 8]).
     using Range = void (*)(const CorrectionPass&, std::size_t, std::size_t);
     static constexpr Range kByExponent[] = {
         &positionCorrectionRange<1>, &positionCorrectionRange<2>, &positionCorrectionRange<3>,
         &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
         &positionCorrectionRange<7>, &positionCorrectionRange<8>};
-    kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1](pass, begin, end);
+    const Range range = kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1];
+    forEachListBlock(search, begin, end,
+                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
+                         const CorrectionPass pass{
+                             c,
+                             solids,
+                             search,
+                             start,
+                             withLambda,
+                             withLambda + block.base,
+                             corrected,
+                             pairConstants(c.h, c.poly6.h2),
+                             hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
+                             hn::Set(d, c.scorrScale)};
+                         range(pass, first, last);
+                     });
 }
 
+// [begin, end) lies in one neighbour-list block.
 template <bool Wide>
 void viscosityAndVorticityRange(const SolverConstants& c, float viscosity,
                                 const NeighborSearch& search, const PackedPoint* predicted,
@@ -356,12 +380,17 @@ void ViscosityAndVorticity(const SolverConstants& c, float viscosity, const Neig
                            const PackedPoint* predicted, const PackedPoint* velocityDensity,
                            Float3Array* vorticity, Float3Array& velocity, std::size_t begin,
                            std::size_t end) {
-    if (search.neighbors(begin).wide)
-        viscosityAndVorticityRange<true>(c, viscosity, search, predicted, velocityDensity,
-                                         vorticity, velocity, begin, end);
-    else
-        viscosityAndVorticityRange<false>(c, viscosity, search, predicted, velocityDensity,
-                                          vorticity, velocity, begin, end);
+    forEachListBlock(search, begin, end,
+                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
+                         if (block.wide)
+                             viscosityAndVorticityRange<true>(c, viscosity, search, predicted,
+                                                              velocityDensity, vorticity, velocity,
+                                                              first, last);
+                         else
+                             viscosityAndVorticityRange<false>(c, viscosity, search, predicted,
+                                                               velocityDensity, vorticity,
+                                                               velocity, first, last);
+                     });
 }
 
 }  // namespace pbf::stages::HWY_NAMESPACE
@@ -382,12 +411,12 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
     (c, solids, search, predicted, density, withLambda, begin, end);
 }
 
-void correctPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+void correctPositions(const SolverConstants& c, const SolidSet* solids,
                       const NeighborSearch& search, const Float3Array& start,
                       const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
                       std::size_t end) {
     HWY_DYNAMIC_DISPATCH(CorrectPositions)
-    (c, solids, radius, search, start, withLambda, corrected, begin, end);
+    (c, solids, search, start, withLambda, corrected, begin, end);
 }
 
 void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,

@@ -1,4 +1,4 @@
-#include "pbf/neighbor_search.hpp"
+#include "backend/cpu/neighbor_search.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -77,7 +77,6 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
 }
 
 void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
-    static_assert(kListBlockSize == detail::kBlockSize, "lists are built per parallelFor block");
     const std::size_t n = positions.size();
     listStart_.resize(n);
     listCount_.resize(n);
@@ -92,7 +91,7 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     // offsets from the lowest, halving their memory. Each row is a contiguous candidate range,
     // tested a SIMD vector at a time; the indices of the candidates closer than h are compressed
     // into the list in index order.
-    detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
+    detail::parallelForBlocks(n, kListBlockSize, [&](std::size_t begin, std::size_t end) {
         ListBlock& block = blocks_[begin / kListBlockSize];
         // The stencils of the block's cells (sorted: from the first
         // particle's to the last one's) reach one slab and one row of cells

@@ -3,50 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backend/cpu/solver_boundary.hpp"
+#include "core/boundary.hpp"
 
 namespace pbf::stages {
-namespace {
-
-// Linear interpolation in the flat-wall table at distance s.
-void sampleWallTable(const WallTable& w, float distance, float& kernel, float& gradient) {
-    const float t = std::max(distance, 0.0f) * w.inverseStep;
-    const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
-    const float f = t - float(k);
-    kernel = w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
-    gradient = w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]);
-}
-
-}  // namespace
-
-void addNearWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
-                             Vec3& gradient) {
-    const WallTable& w = c.wall;
-    auto add = [&](float distance, float Vec3::*axis, float outward) {
-        if (!(distance < w.range)) return;
-        float kernel = 0.0f, slope = 0.0f;
-        sampleWallTable(w, distance, kernel, slope);
-        kernelSum += kernel;
-        gradient.*axis += outward * slope;
-    };
-    add(x.x - c.domain.min.x, &Vec3::x, -1.0f);
-    add(c.domain.max.x - x.x, &Vec3::x, 1.0f);
-    add(x.y - c.domain.min.y, &Vec3::y, -1.0f);
-    add(c.domain.max.y - x.y, &Vec3::y, 1.0f);
-    add(x.z - c.domain.min.z, &Vec3::z, -1.0f);
-    add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
-}
-
-void addNearSolidContribution(const SolverConstants& c, const SolidSet& solids, const Vec3& x,
-                              float& kernelSum, Vec3& gradient) {
-    Vec3 normal;
-    const float distance = solids.signedDistance(x, c.wall.range, normal);
-    if (!(distance < c.wall.range)) return;
-    float kernel = 0.0f, slope = 0.0f;
-    sampleWallTable(c.wall, distance, kernel, slope);
-    kernelSum += kernel;
-    gradient -= normal * slope;
-}
+using boundary::clampToBox;
 
 void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
                       Float3Array& velocity, Float3Array& predicted, std::size_t begin,
@@ -115,96 +75,22 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
     }
 }
 
-void respondToWalls(const Aabb& box, float restitution, float friction,
-                    const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
-                    std::size_t end) {
-    const float tolerance =
-        1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
-    for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 x = predicted.get(i);
-        Vec3 v = velocity.get(i);
-        for (int axis = 0; axis < 3; ++axis) {
-            float* vn = axis == 0 ? &v.x : (axis == 1 ? &v.y : &v.z);
-            const bool onMin = x[axis] <= box.min[axis] + tolerance && *vn < 0.0f;
-            const bool onMax = x[axis] >= box.max[axis] - tolerance && *vn > 0.0f;
-            if (!onMin && !onMax) continue;
-            const float normalSpeed = std::fabs(*vn);
-            *vn = -restitution * *vn;
-            // Coulomb friction: the tangential speed drops by mu times the
-            // normal speed change, never below zero.
-            float* t1 = axis == 0 ? &v.y : &v.x;
-            float* t2 = axis == 2 ? &v.y : &v.z;
-            const float tangential = std::sqrt(*t1 * *t1 + *t2 * *t2);
-            if (tangential > 0.0f) {
-                const float keep = std::max(
-                    0.0f, 1.0f - friction * (1.0f + restitution) * normalSpeed / tangential);
-                *t1 *= keep;
-                *t2 *= keep;
-            }
-        }
-        velocity.set(i, v);
-    }
-}
-
-Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, float radius,
-                           const Vec3& start, Vec3 x) {
-    const float reach = c.h;
-    const float hitDistance = 0.05f * radius;
-    Vec3 normal;
-    const Vec3 move = x - start;
-    const float moveLength = length(move);
-    // Sweep: sphere-trace from the start; the distance field guarantees no
-    // surface closer than d, so each step of length d is safe.
-    const float startDistance = solids.signedDistance(start, moveLength + reach, normal);
-    if (startDistance < moveLength && moveLength > 0.0f) {
-        const Vec3 direction = move * (1.0f / moveLength);
-        float travelled = std::max(startDistance, 0.0f);
-        bool hit = startDistance <= hitDistance;
-        for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
-            const float d =
-                solids.signedDistance(start + direction * travelled, moveLength + reach, normal);
-            if (d <= hitDistance) {
-                hit = true;
-                break;
-            }
-            travelled += d;
-        }
-        if (hit) x = start + direction * std::min(travelled, moveLength);
-    }
-    // Push out to one radius (twice: a corner between two solids).
-    for (int pass = 0; pass < 2; ++pass) {
-        const float d = solids.signedDistance(x, reach, normal);
-        if (!(d < radius)) break;
-        x += normal * (radius - d);
-    }
-    return clampToBox(c.collisionBox, x);
-}
-
-void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
+void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
                             const Float3Array& position, Float3Array& predicted, std::size_t begin,
                             std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-        predicted.set(i,
-                      resolveSolidCollision(c, solids, radius, position.get(i), predicted.get(i)));
+        predicted.set(i, boundary::resolveSolidCollision(c, solids, position.get(i),
+                                                         predicted.get(i)));
 }
 
-void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
-                     const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
-                     std::size_t end) {
-    const float contact = 1.05f * radius;
+void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float restitution,
+                         float friction, const Float3Array& predicted, Float3Array& velocity,
+                         std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-        Vec3 normal;
-        if (!(solids.signedDistance(predicted.get(i), contact, normal) < contact)) continue;
-        Vec3 v = velocity.get(i);
-        const float vn = dot(v, normal);
-        if (vn >= 0.0f) continue;  // separating
-        const Vec3 tangential = v - normal * vn;
-        const float tangentialSpeed = length(tangential);
-        const float keep =
-            tangentialSpeed > 0.0f
-                ? std::max(0.0f, 1.0f - friction * (1.0f + restitution) * -vn / tangentialSpeed)
-                : 0.0f;
-        v = tangential * keep - normal * (restitution * vn);
+        const Vec3 x = predicted.get(i);
+        Vec3 v = boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity.get(i));
+        if (solids)
+            v = boundary::respondToSolids(*solids, c.particleRadius, restitution, friction, x, v);
         velocity.set(i, v);
     }
 }

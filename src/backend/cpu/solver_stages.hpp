@@ -7,9 +7,11 @@
 
 #include <cstddef>
 
-#include "pbf/neighbor_search.hpp"
+#include "backend/cpu/neighbor_search.hpp"
+#include "backend/cpu/solver.hpp"
 #include "pbf/particles.hpp"
-#include "pbf/solver.hpp"
+#include "pbf/solids.hpp"
+#include "pbf/solver_constants.hpp"
 
 namespace pbf::stages {
 
@@ -38,27 +40,15 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
 // (Alg. 1 l. 16-18), written to `corrected` (Jacobi: neighbours read
 // `withLambda`). `start` (x at the start of the step) is where the sweep
 // against solids begins.
-void correctPositions(const SolverConstants& c, const SolidSet* solids, float radius,
+void correctPositions(const SolverConstants& c, const SolidSet* solids,
                       const NeighborSearch& search, const Float3Array& start,
                       const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
                       std::size_t end);
 
-// Keeps x* at least one particle radius outside every solid. The move from x
-// (outside, the start of the step) to x* is swept by sphere tracing the
-// distance field: if it enters a solid, x* stops at the surface, so no step
-// can carry a particle through a thin wall. Then x* is pushed out along the
-// surface normal to distance r.
-void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids, float radius,
+// boundary::resolveSolidCollision for every particle of the range (x -> x*).
+void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
                             const Float3Array& position, Float3Array& predicted, std::size_t begin,
                             std::size_t end);
-// The same for one particle moving from `start` to `x`; returns the new x.
-Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, float radius,
-                           const Vec3& start, Vec3 x);
-
-// Restitution and friction against solids, as respondToWalls for the box.
-void respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
-                     const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
-                     std::size_t end);
 
 // Alg. 1 l. 21: v = (x* - x) / dt; also packs (v, rho) for the next pass.
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
@@ -81,12 +71,11 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
                                const Float3Array& vorticity, const float* density,
                                Float3Array& velocity, std::size_t begin, std::size_t end);
 
-// Particles touching a wall of the collision box: the normal velocity into
-// the wall is reflected with `restitution`; the tangential velocity loses
-// Coulomb friction proportional to the normal impulse.
-void respondToWalls(const Aabb& box, float restitution, float friction,
-                    const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
-                    std::size_t end);
+// Restitution and friction against the walls of the collision box and the
+// solids (boundary::respondToWalls, boundary::respondToSolids; `solids` may be null).
+void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float restitution,
+                         float friction, const Float3Array& predicted, Float3Array& velocity,
+                         std::size_t begin, std::size_t end);
 
 // Alg. 1 l. 23: x = x*.
 void commitPositions(const Float3Array& predicted, Float3Array& position, std::size_t begin,

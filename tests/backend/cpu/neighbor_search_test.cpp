@@ -1,5 +1,5 @@
 // The grid neighbour search finds exactly the pairs a brute-force search finds.
-#include "pbf/neighbor_search.hpp"
+#include "backend/cpu/neighbor_search.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,123 @@
+// The backend seam: what a World asks of the solver that holds its particles.
+//
+// A backend owns the particle state wherever it lives (host memory for the
+// CPU and reference backends; device memory or several processes for the
+// backends to come) and advances it by one PBF step (Macklin & Mueller 2013,
+// Algorithm 1). Everything the World needs between steps is asked of the
+// backend as a reduction (largest speed, first bad particle, statistics) so
+// that particle data crosses to the host only for output: hostState() gives
+// zero-copy access where the particles are in host memory, download() a copy
+// otherwise.
+//
+// Settings are not stored here: the World owns the one copy of the live
+// settings and passes them, with the constants derived from them and the
+// posed solids, to every call that needs them (SolverContext).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "pbf/params.hpp"
+#include "pbf/particles.hpp"
+#include "pbf/solids.hpp"
+#include "pbf/solver_constants.hpp"
+#include "pbf/state_guard.hpp"
+#include "pbf/statistics.hpp"
+
+namespace pbf {
+
+// Wall-clock milliseconds spent per stage, and the work done.
+struct StageTimes {
+    double predict = 0.0;         // includes the swept collision with solids
+    double neighborSearch = 0.0;  // sort, reorder, neighbour lists
+    double solve = 0.0;           // all density iterations
+    double postProcess = 0.0;     // velocity update, vorticity, XSPH, wall response
+    double total = 0.0;
+    // Parts of the above, for profiling (`pbf bench`).
+    double gridBuild = 0.0;      // cell of each particle + counting sort
+    double reorder = 0.0;        // permuting every particle array
+    double neighborLists = 0.0;  // distance tests, neighbour lists
+    double lambda = 0.0;         // density + lambda passes, all iterations
+    double deltaP = 0.0;  // correction passes with their box / solid projection, all iterations
+    // Density iterations the solver ran (counted in its loop, not copied
+    // from the settings).
+    double iterations = 0.0;
+
+    StageTimes& operator+=(const StageTimes& o);
+    StageTimes operator*(double factor) const;
+};
+
+// The constant inputs of a backend call: the World's live settings, the SI
+// constants derived from them, and the posed solids (null when there are none).
+struct SolverContext {
+    const SimulationParams& params;
+    const SolverConstants& constants;
+    const SolidSet* solids = nullptr;
+};
+
+enum class BackendKind {
+    Cpu,        // SIMD CPU solver (Highway), OpenMP, deterministic: the default
+    Reference,  // scalar, one function per equation of the paper: the test oracle
+};
+// "cpu", "reference".
+std::string_view backendName(BackendKind kind);
+// Parses a backend name; throws std::invalid_argument listing the choices.
+BackendKind parseBackendKind(std::string_view name);
+
+// Backend-specific figures for `pbf bench` (NaN where they do not apply).
+struct BackendDiagnostics {
+    std::size_t memoryBytes = 0;         // particle state + solver scratch + search structures
+    double neighborsPerParticle = 0.0;   // average neighbour-list length
+    double compactListShare = 0.0;       // blocks with 16-bit neighbour lists, of all
+};
+
+class Backend {
+  public:
+    virtual ~Backend() = default;
+    virtual BackendKind kind() const = 0;
+
+    virtual std::size_t size() const = 0;
+    // Appends particles with the next free ids (consecutive, in order); their
+    // density starts at `density`.
+    virtual void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
+                        float density) = 0;
+    // Advances every particle by dt seconds.
+    virtual void step(const SolverContext& context, float dt) = 0;
+    virtual const StageTimes& lastStageTimes() const = 0;
+
+    // Reductions over the particles, computed where they live.
+    virtual float maxSpeed() const = 0;
+    // The state guard's scan (include/pbf/state_guard.hpp).
+    virtual std::optional<BadParticle> findBadParticle(double speedLimit) const = 0;
+    virtual StateStatistics statistics(const SolverContext& context) const = 0;
+
+    // The particles in host memory, in the backend's memory order, or null
+    // when they live elsewhere (then use download()).
+    virtual const ParticleStore* hostState() const = 0;
+    virtual ParticleStore* mutableHostState() = 0;
+    // A copy of the state in memory order (the exact state: a checkpoint).
+    virtual void download(ParticleStore& out) const = 0;
+    // Replaces the state (a checkpoint being restored, host edits).
+    virtual void upload(ParticleStore state) = 0;
+
+    virtual BackendDiagnostics diagnostics() const = 0;
+};
+
+// Options that only tests and benchmarks change.
+struct BackendOptions {
+    // CPU backend: widest index range a block's neighbour lists may span
+    // and still be stored as 16-bit offsets (NeighborSearch).
+    std::uint32_t compactListSpan = 65536;
+};
+
+// A backend of `kind` for the fixed part of `params` (domain, particle
+// radius, kernel radius), holding no particles yet.
+std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& params,
+                                     const BackendOptions& options = {});
+
+}  // namespace pbf

@@ -1,0 +1,59 @@
+// The CPU backend's solver: Position Based Fluids (Macklin & Mueller 2013,
+// Algorithm 1) with SIMD neighbour passes (private header).
+//
+// One call of Solver::step advances the particles by dt:
+//   predict        v += dt g;  x* = x + dt v                  (Alg. 1, l. 1-4)
+//   neighbours     sort by grid cell, reorder, neighbour lists (l. 5-7)
+//   iterations     rho_i, lambda_i; dp_i with s_corr; x* += dp; box projection (l. 8-19)
+//   velocity       v = (x* - x) / dt                           (l. 21)
+//   post-process   vorticity confinement, XSPH viscosity       (l. 22)
+//   wall response  restitution and friction on the domain walls
+//   commit         x = x*                                      (l. 23)
+// Every stage is a function over particle ranges in solver_stages.hpp; the
+// scalar equations they implement are in backend/reference/equations.hpp.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "backend/cpu/neighbor_search.hpp"
+#include "pbf/backend.hpp"
+#include "pbf/particles.hpp"
+
+namespace pbf {
+
+// Four floats of one particle (x* and lambda, or v and rho), 16-byte aligned
+// so that the SIMD neighbour loops load a neighbour's record whole.
+struct alignas(16) PackedPoint {
+    float x = 0.0f, y = 0.0f, z = 0.0f, w = 0.0f;
+};
+
+class Solver {
+  public:
+    // A grid over `domain` with cells of the kernel radius.
+    // `compactListSpan` (tests only): see NeighborSearch.
+    Solver(const Aabb& domain, float kernelRadius, std::uint32_t compactListSpan = 65536);
+
+    // Advances the particles by dt seconds; stage times go to `times`.
+    void step(const SolverContext& context, ParticleStore& particles, float dt, StageTimes& times);
+
+    const NeighborSearch& neighborSearch() const { return search_; }
+    // Solver-owned memory in bytes (scratch arrays, grid, neighbour lists).
+    std::size_t memoryBytes() const;
+
+  private:
+    void ensureCapacity(std::size_t n, bool withVorticity);
+
+    NeighborSearch search_;
+
+    // Scratch owned by the solver: sized once per particle count, reused every step.
+    std::vector<std::uint32_t> perm_;
+    // The iterations alternate between these (Jacobi): x* -> (x*, lambda) ->
+    // corrected x*. The post-process reuses them for x* and (v, rho).
+    std::vector<PackedPoint> packed_;
+    std::vector<PackedPoint> packedWithLambda_;
+    Float3Array vorticity_;  // omega_i, only while vorticity confinement is on
+};
+
+}  // namespace pbf

@@ -1,0 +1,32 @@
+#include "backend/host_backend.hpp"
+
+#include <stdexcept>
+
+namespace pbf {
+
+void HostBackend::append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
+                         float density) {
+    if (positions.size() != velocities.size())
+        throw std::invalid_argument("Backend::append: positions and velocities differ in length");
+    for (std::size_t k = 0; k < positions.size(); ++k)
+        store_.add(positions[k], velocities[k], density);
+}
+
+float HostBackend::maxSpeed() const {
+    return pbf::maxSpeed(store_);
+}
+
+std::optional<BadParticle> HostBackend::findBadParticle(double speedLimit) const {
+    return pbf::findBadParticle(store_, speedLimit);
+}
+
+StateStatistics HostBackend::statistics(const SolverContext& context) const {
+    return computeStatistics(store_, context.constants, context.params.domain, context.solids,
+                             context.params.particleRadius);
+}
+
+void HostBackend::download(ParticleStore& out) const {
+    out = store_;
+}
+
+}  // namespace pbf

@@ -1,0 +1,31 @@
+// The part of a backend whose particles live in host memory (private
+// header): the particle store, appending, and the reductions, shared by the
+// CPU and reference backends. A device backend implements Backend directly.
+#pragma once
+
+#include "pbf/backend.hpp"
+
+namespace pbf {
+
+class HostBackend : public Backend {
+  public:
+    std::size_t size() const override { return store_.size(); }
+    void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
+                float density) override;
+    const StageTimes& lastStageTimes() const override { return times_; }
+
+    float maxSpeed() const override;
+    std::optional<BadParticle> findBadParticle(double speedLimit) const override;
+    StateStatistics statistics(const SolverContext& context) const override;
+
+    const ParticleStore* hostState() const override { return &store_; }
+    ParticleStore* mutableHostState() override { return &store_; }
+    void download(ParticleStore& out) const override;
+    void upload(ParticleStore state) override { store_ = std::move(state); }
+
+  protected:
+    ParticleStore store_;
+    StageTimes times_;
+};
+
+}  // namespace pbf

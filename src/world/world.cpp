@@ -1,0 +1,250 @@
+#include "pbf/world.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <utility>
+
+namespace pbf {
+
+World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
+    if (const std::string problem = validate(def_); !problem.empty())
+        throw SceneError((def_.source.empty() ? def_.name : def_.source) + ": " + problem);
+    settings_ = def_.simulation;
+    constants_ = SolverConstants::from(settings_);
+    solids_ = buildSolids(def_);
+    backend_ = makeBackend(options.backend, settings_, options.backendOptions);
+    backend_->upload(createParticles(def_, solids_.get(), &skipped_));
+    for (const EmitterDescription& e : def_.emitters) emitters_.emplace_back(e, settings_);
+    speedLimit_ = pbf::speedLimit(def_);
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+SolverContext World::context() const {
+    return {settings_, constants_, solids_->empty() ? nullptr : solids_.get()};
+}
+
+void World::applySettings(const SimulationParams& settings) {
+    const std::string prefix = def_.source.empty() ? "" : def_.source + ": ";
+    if (const std::string problem = validate(settings); !problem.empty())
+        throw SceneError(prefix + problem);
+    const SimulationParams& fixed = def_.simulation;
+    if (!(settings.domain == fixed.domain))
+        throw SceneError(prefix + "domain: cannot change while the world runs");
+    if (settings.particleRadius != fixed.particleRadius)
+        throw SceneError(prefix + "particle_radius: cannot change while the world runs");
+    if (settings.solver.kernelRadiusFactor != fixed.solver.kernelRadiusFactor)
+        throw SceneError(prefix + "solver.kernel_radius_factor: cannot change while the world runs");
+    settings_ = settings;
+    constants_ = SolverConstants::from(settings_);
+}
+
+std::optional<StepError> World::checkState(int substep, double time, const char* stage) const {
+    const std::optional<BadParticle> bad = backend_->findBadParticle(speedLimit_);
+    if (!bad) return std::nullopt;
+    StepError error;
+    error.kind = StepError::Kind::BadState;
+    error.frame = frame_ + 1;
+    error.substep = substep;
+    error.stage = stage;
+    error.message = fmt::format(
+        "bad state in frame {} substep {} ({}, t = {:.6f} s): particle id {} at ({:.6g}, {:.6g}, "
+        "{:.6g}): {}",
+        error.frame, substep, stage, time, bad->id, bad->position.x, bad->position.y,
+        bad->position.z, bad->problem);
+    error.particle = *bad;
+    return error;
+}
+
+double World::adaptiveSubstep(double remaining) const {
+    const SolverParams& s = settings_.solver;
+    const double maxDt = s.maxTimeStep;
+    const double speed = double(backend_->maxSpeed()) + length(settings_.gravity) * maxDt;
+    double dt = maxDt;
+    if (speed > 0.0) dt = std::min(dt, s.cfl * settings_.particleSpacing() / speed);
+    dt = std::max(dt, frameDuration() / s.maxSubsteps);
+    const double steps = std::max(1.0, std::ceil(remaining / dt - 1e-6));
+    return remaining / steps;
+}
+
+FrameResult World::stepFrame() {
+    FrameResult result;
+    try {
+        applyHostEdits();
+        downloadedValid_ = false;
+        const SolverParams& s = settings_.solver;
+        const double frameDt = frameDuration();
+        FrameReport& report = result.report;
+        double remaining = frameDt;
+        int substeps = 0;
+        // The guard runs on the state handed in (a script or a resumed
+        // checkpoint may have put NaN there) and after every substep, so no
+        // bad state reaches the frame's outputs.
+        result.error = checkState(0, time_, "before the first solver step of the frame");
+        if (result.error) return result;
+        double elapsed = 0.0;
+        std::vector<Vec3> emitted;
+        while (remaining > 1e-12 * frameDt) {
+            double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
+                                                              : adaptiveSubstep(remaining);
+            if (dt > remaining * (1.0 - 1e-9)) dt = remaining;  // the last step ends the frame
+            const double stepStart = time_ + (frameDt - remaining);
+            for (Emitter& emitter : emitters_) {
+                emitted.clear();
+                emitter.emit(stepStart, dt, solids_->empty() ? nullptr : solids_.get(), emitted);
+                const std::vector<Vec3> velocities(emitted.size(), emitter.velocity());
+                backend_->append(emitted, velocities, settings_.fluid.restDensity);
+            }
+            backend_->step(context(), static_cast<float>(dt));
+            report.stageMs += backend_->lastStageTimes();
+            report.iterations = static_cast<int>(backend_->lastStageTimes().iterations);
+            remaining -= dt;
+            elapsed += dt;
+            ++substeps;
+            result.error = checkState(substeps, frame_ * frameDt + elapsed, "after solver step");
+            if (result.error) return result;
+        }
+        ++frame_;
+        time_ = frame_ * frameDt;  // no drift from summing substeps
+        const FrameReport state = this->report();
+        report.frame = state.frame;
+        report.time = state.time;
+        report.state = state.state;
+        report.substeps = substeps;
+        report.stepMs = substeps > 0 ? report.stageMs.total / substeps : 0.0;
+        refreshArrays();
+    } catch (const std::exception& e) {
+        StepError error;
+        error.frame = frame_ + 1;
+        error.message = fmt::format("frame {} failed: {}", frame_ + 1, e.what());
+        result.error = std::move(error);
+    }
+    return result;
+}
+
+FrameReport World::report() const {
+    FrameReport r;
+    r.frame = frame_;
+    r.time = time_;
+    r.state = backend_->statistics(context());
+    return r;
+}
+
+const ParticleStore& World::particles() const {
+    if (const ParticleStore* host = backend_->hostState()) return *host;
+    if (!downloadedValid_) {
+        backend_->download(downloaded_);
+        downloadedValid_ = true;
+    }
+    return downloaded_;
+}
+
+void World::addParticles(std::span<const Vec3> positions, std::span<const Vec3> velocities) {
+    if (positions.size() != velocities.size())
+        throw std::invalid_argument("addParticles: " + std::to_string(positions.size()) +
+                                    " positions but " + std::to_string(velocities.size()) +
+                                    " velocities");
+    applyHostEdits();
+    backend_->append(positions, velocities, settings_.fluid.restDensity);
+    downloadedValid_ = false;
+    refreshArrays();
+}
+
+ParticleArrays& World::arraysById() {
+    if (!arrays_) {
+        arrays_ = std::make_unique<ParticleArrays>();
+        refreshArrays();
+    }
+    return *arrays_;
+}
+
+// Copies the backend's state into the id-ordered arrays (new buffers when
+// the count changed, so that views of the old ones stay valid).
+void World::refreshArrays() {
+    if (!arrays_) return;
+    const ParticleStore& p = particles();
+    const std::size_t n = p.size();
+    ParticleArrays& a = *arrays_;
+    if (!a.position || a.count != n) {
+        a.count = n;
+        a.position = std::make_shared<std::vector<float>>(3 * n);
+        a.velocity = std::make_shared<std::vector<float>>(3 * n);
+        a.density = std::make_shared<std::vector<float>>(n);
+        a.id = std::make_shared<std::vector<std::uint32_t>>(n);
+    }
+    float* x = a.position->data();
+    float* v = a.velocity->data();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t k = p.id[i];
+        if (k >= n)
+            throw std::logic_error("particle ids are not 0 .. count - 1 (id " + std::to_string(k) +
+                                   ")");
+        x[3 * k + 0] = p.position.x[i];
+        x[3 * k + 1] = p.position.y[i];
+        x[3 * k + 2] = p.position.z[i];
+        v[3 * k + 0] = p.velocity.x[i];
+        v[3 * k + 1] = p.velocity.y[i];
+        v[3 * k + 2] = p.velocity.z[i];
+        (*a.density)[k] = p.density[i];
+        (*a.id)[k] = k;
+    }
+}
+
+// Writes the id-ordered positions and velocities (which a script may have
+// changed) back into the backend. Copying unchanged values back changes no bit.
+void World::applyHostEdits() {
+    if (!arrays_ || arrays_->count != backend_->size()) return;
+    ParticleStore* host = backend_->mutableHostState();
+    ParticleStore copy;
+    if (!host) {
+        backend_->download(copy);
+        host = &copy;
+    }
+    ParticleStore& p = *host;
+    const float* x = arrays_->position->data();
+    const float* v = arrays_->velocity->data();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::uint32_t k = p.id[i];
+        p.position.set(i, {x[3 * k], x[3 * k + 1], x[3 * k + 2]});
+        p.predicted.set(i, p.position.get(i));
+        p.velocity.set(i, {v[3 * k], v[3 * k + 1], v[3 * k + 2]});
+    }
+    if (host == &copy) backend_->upload(std::move(copy));
+    downloadedValid_ = false;
+}
+
+void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
+    if (i >= solids_->size())
+        throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) + " (the world has " +
+                                std::to_string(solids_->size()) + ")");
+    solids_->setMotion(i, motion);
+}
+
+WorldState World::captureState() const {
+    WorldState state;
+    backend_->download(state.particles);
+    for (const Emitter& e : emitters_) state.emitters.push_back(e.state());
+    state.frame = frame_;
+    state.time = time_;
+    return state;
+}
+
+void World::restoreState(WorldState state) {
+    if (state.emitters.size() != emitters_.size())
+        throw std::invalid_argument("World::restoreState: " + std::to_string(state.emitters.size()) +
+                                    " emitter states for " + std::to_string(emitters_.size()) +
+                                    " emitters");
+    for (std::size_t k = 0; k < emitters_.size(); ++k) emitters_[k].setState(state.emitters[k]);
+    backend_->upload(std::move(state.particles));
+    frame_ = state.frame;
+    time_ = state.time;
+    downloadedValid_ = false;
+    refreshArrays();
+}
+
+}  // namespace pbf

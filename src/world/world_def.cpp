@@ -1,0 +1,254 @@
+// Validation of a world definition and what is built from it: the solids and
+// the fluid blocks' particles.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pbf/scene.hpp"
+#include "pbf/world_def.hpp"
+
+namespace pbf {
+namespace {
+
+// Particles along one axis of a block: lattice cells of edge `spacing` that fit.
+// Capped so that absurd sizes stay representable and are refused later.
+long long latticeCount(float extent, float spacing) {
+    return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
+}
+
+bool overlaps(const Aabb& a, const Aabb& b) {
+    return a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y &&
+           a.min.z < b.max.z && b.min.z < a.max.z;
+}
+
+bool positiveBox(const Aabb& box) {
+    const Vec3 e = box.extent();
+    return e.x > 0 && e.y > 0 && e.z > 0;
+}
+
+bool finite(const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+std::string fieldOf(const std::string& given, const char* list, std::size_t i) {
+    return given.empty() ? fmt::format("{}[{}]", list, i) : given;
+}
+
+std::string validateBlocks(const WorldDef& def) {
+    const SimulationParams& sim = def.simulation;
+    const float spacing = sim.particleSpacing();
+    if (def.fluidBlocks.empty() && def.emitters.empty())
+        return "fluid_blocks: at least one fluid block (or an emitter) is required";
+    for (std::size_t i = 0; i < def.fluidBlocks.size(); ++i) {
+        const FluidBlock& block = def.fluidBlocks[i];
+        const std::string field = fmt::format("fluid_blocks[{}]", i);
+        if (!finite(block.box.min) || !finite(block.box.max) || !positiveBox(block.box))
+            return field + ".max: must be greater than min on every axis";
+        if (!finite(block.velocity)) return field + ".velocity: must be finite";
+        const Aabb& d = sim.domain;
+        if (!d.contains(block.box.min) || !d.contains(block.box.max))
+            return field + ".min: the block must lie inside the domain";
+        const Vec3 e = block.box.extent();
+        if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
+            latticeCount(e.z, spacing) < 1)
+            return field + ".max: the block is empty: every side must be at least one particle "
+                           "spacing (2 r = " +
+                   std::to_string(spacing) + " m) long";
+        for (std::size_t k = 0; k < i; ++k)
+            if (overlaps(block.box, def.fluidBlocks[k].box))
+                return field + ".min: overlaps fluid_blocks[" + std::to_string(k) + "]";
+    }
+    return {};
+}
+
+std::string validateSolids(const WorldDef& def) {
+    using Kind = SolidDescription::Kind;
+    for (std::size_t i = 0; i < def.solids.size(); ++i) {
+        const SolidDescription& d = def.solids[i];
+        const std::string field = fieldOf(d.field, "solids", i);
+        switch (d.kind) {
+            case Kind::Box:
+                if (!finite(d.box.min) || !finite(d.box.max) || !positiveBox(d.box))
+                    return field + ".max: must be greater than min on every axis";
+                break;
+            case Kind::Sphere:
+                if (!finite(d.center)) return field + ".center: must be finite";
+                if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
+                    return field + ".radius: must be positive";
+                break;
+            case Kind::Plane:
+                if (!finite(d.point)) return field + ".point: must be finite";
+                if (!(length(d.normal) > 0.0f) || !finite(d.normal))
+                    return field + ".normal: must be a non-zero vector";
+                break;
+            case Kind::Cylinder:
+                if (!finite(d.base)) return field + ".base: must be finite";
+                if (!(length(d.axis) > 0.0f) || !finite(d.axis))
+                    return field + ".axis: must be a non-zero vector";
+                if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
+                    return field + ".radius: must be positive";
+                if (!(d.height > 0.0f) || !std::isfinite(d.height))
+                    return field + ".height: must be positive";
+                break;
+            case Kind::Mesh: {
+                if (d.file.empty()) return field + ".file: missing (required): path of an OBJ file";
+                const Vec3& s = d.transform.scale;
+                if (!(s.x > 0 && s.y > 0 && s.z > 0) || !finite(s))
+                    return field + ".scale: must be positive";
+                if (!finite(d.transform.rotationDegrees)) return field + ".rotation: must be finite";
+                if (!finite(d.transform.translation)) return field + ".translation: must be finite";
+                break;
+            }
+        }
+    }
+    return {};
+}
+
+std::string validateEmitters(const WorldDef& def) {
+    const SimulationParams& sim = def.simulation;
+    for (std::size_t i = 0; i < def.emitters.size(); ++i) {
+        const EmitterDescription& e = def.emitters[i];
+        const std::string field = fieldOf(e.field, "emitters", i);
+        if (!sim.domain.contains(e.position))
+            return field + ".position: must lie inside the domain";
+        if (!(length(e.direction) > 0.0f) || !finite(e.direction))
+            return field + ".direction: must be a non-zero vector";
+        if (!(e.radius > 0.0f)) return field + ".radius: must be positive";
+        if (e.radius < sim.particleRadius)
+            return field + ".radius: must be at least the particle radius";
+        const Vec3 extent = sim.domain.extent();
+        if (e.radius > std::max(extent.x, std::max(extent.y, extent.z)))
+            return field + ".radius: must not exceed the domain's size";
+        if (!(e.speed > 0.0f)) return field + ".speed: must be positive";
+        if (e.speed > 100.0f) return field + ".speed: must be at most 100 m/s";
+        if (!(e.start >= 0.0f)) return field + ".start: must be >= 0 s";
+        if (!(e.end > e.start)) return field + ".end: must be later than start";
+    }
+    return {};
+}
+
+}  // namespace
+
+std::string validate(const WorldDef& def) {
+    if (def.name.empty() || def.name.find('/') != std::string::npos)
+        return "name: must be a non-empty name without '/'";
+    if (std::string problem = validate(def.simulation); !problem.empty()) return problem;
+    if (!(def.fps > 0.0f && def.fps <= 10000.0f)) return "output.fps: must be in (0, 10000]";
+    if (!(def.guard.maxSpeed >= 0.0f && def.guard.maxSpeed <= 1e6f))
+        return "guard.max_speed: must be in [0, 1000000] m/s (0: automatic)";
+    if (!(def.guard.maxSpeedFactor >= 1.0f && def.guard.maxSpeedFactor <= 1e4f))
+        return "guard.max_speed_factor: must be in [1, 10000]";
+    if (std::string problem = validateBlocks(def); !problem.empty()) return problem;
+    if (std::string problem = validateSolids(def); !problem.empty()) return problem;
+    return validateEmitters(def);
+}
+
+std::size_t countParticles(const WorldDef& def) {
+    const float spacing = def.simulation.particleSpacing();
+    double total = 0.0;
+    for (const FluidBlock& b : def.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
+                 double(latticeCount(e.z, spacing));
+    }
+    if (total > 4e9)
+        throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
+                         std::to_string(total) + " particles exceed the 32-bit particle index");
+    return static_cast<std::size_t>(total);
+}
+
+std::unique_ptr<SolidSet> buildSolids(const WorldDef& def) {
+    auto set = std::make_unique<SolidSet>();
+    const SimulationParams& sim = def.simulation;
+    for (std::size_t i = 0; i < def.solids.size(); ++i) {
+        const SolidDescription& d = def.solids[i];
+        using Kind = SolidDescription::Kind;
+        switch (d.kind) {
+            case Kind::Box:
+                set->add(makeBoxSolid(d.box));
+                break;
+            case Kind::Sphere:
+                set->add(makeSphereSolid(d.center, d.radius));
+                break;
+            case Kind::Plane:
+                set->add(makePlaneSolid(d.point, d.normal, sim.domain));
+                break;
+            case Kind::Cylinder:
+                set->add(makeCylinderSolid(d.base, d.axis, d.radius, d.height));
+                break;
+            case Kind::Mesh: {
+                MeshSolidOptions options;
+                options.voxelSize = 0.5f * sim.particleRadius;
+                options.bandWidth = sim.kernelRadius() + 2.0f * sim.particleRadius;
+                options.shellThickness = sim.particleRadius;
+                // The scale is baked into the distance field; rotation and
+                // translation place it (its pose), so the solid can move.
+                Transform scaleOnly;
+                scaleOnly.scale = d.transform.scale;
+                try {
+                    set->add(loadMeshSolid(d.file, scaleOnly, options),
+                             SolidMotion{d.transform.pose(), {}, {}});
+                } catch (const SolidError& e) {
+                    throw SceneError((def.source.empty() ? def.name : def.source) + ": " +
+                                     fieldOf(d.field, "solids", i) + ".file: " + e.what());
+                }
+                break;
+            }
+        }
+    }
+    return set;
+}
+
+ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped) {
+    const SimulationParams& sim = def.simulation;
+    const float r = sim.particleRadius;
+    const float spacing = sim.particleSpacing();
+    ParticleStore store;
+    store.reserve(countParticles(def));
+    std::size_t rejected = 0;
+    for (const FluidBlock& b : def.fluidBlocks) {
+        const Vec3 e = b.box.extent();
+        const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
+                        nz = latticeCount(e.z, spacing);
+        for (long long k = 0; k < nz; ++k)
+            for (long long j = 0; j < ny; ++j)
+                for (long long i = 0; i < nx; ++i) {
+                    const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
+                                                    r + float(k) * spacing};
+                    Vec3 normal;
+                    // A particle spawned inside (or touching) a solid would be
+                    // shot out of it: leave the site empty instead.
+                    if (solids && solids->signedDistance(x, r, normal) < r) {
+                        ++rejected;
+                        continue;
+                    }
+                    store.add(x, b.velocity, sim.fluid.restDensity);
+                }
+    }
+    if (skipped) *skipped = rejected;
+    return store;
+}
+
+std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
+    // Particle store (9 floats of state, density, id, reorder scratch) plus
+    // solver scratch (lambda, delta, vorticity, grid keys, CSR offsets) plus
+    // the neighbour list: ~(4/3) pi (h / 2r)^3 neighbours, 4 bytes each, with
+    // the list's 25 % growth headroom.
+    const double ratio = params.solver.kernelRadiusFactor / 2.0;
+    const double neighbors = 4.0 / 3.0 * 3.14159265358979 * ratio * ratio * ratio;
+    return static_cast<std::size_t>(4 * 13 + 4 * 8 + 8 + neighbors * 4 * 1.25 + 0.5);
+}
+
+void checkMemory(const WorldDef& def, std::size_t availableBytes) {
+    const double needed =
+        double(countParticles(def)) * double(estimatedBytesPerParticle(def.simulation));
+    if (needed > double(availableBytes))
+        throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
+                         std::to_string(countParticles(def)) + " particles need about " +
+                         std::to_string(static_cast<long long>(needed / (1 << 20))) +
+                         " MiB, more than the " + std::to_string(availableBytes >> 20) +
+                         " MiB of memory available; use larger particles or smaller blocks");
+}
+
+}  // namespace pbf
