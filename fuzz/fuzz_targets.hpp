@@ -4,7 +4,9 @@
 //
 // Every input must either be accepted or refused with the library's error
 // type (SceneError, IoError); anything else (a crash, a sanitizer report, a
-// different exception, a hang, unbounded memory) is a bug.
+// different exception, a hang, unbounded memory) is a bug. Each harness
+// returns the outcome: accepted, or refused with the error's message (the
+// regression test checks both against tests/data/fuzz/expected.txt).
 #pragma once
 
 #include <algorithm>
@@ -21,17 +23,22 @@
 
 namespace pbf::fuzz {
 
-// Returns true when the input was accepted, false when it was refused cleanly.
-inline bool scene(std::string_view text) {
+struct Outcome {
+    bool accepted = false;
+    std::string message;  // the refusal's message
+};
+
+// A scene of at most `memoryBytes` of particles (the fuzzers keep it tiny).
+inline Outcome scene(std::string_view text, std::size_t memoryBytes = std::size_t{1} << 20) {
     try {
         const Scene s = parseScene(text, "fuzz.json");
-        checkMemory(s, std::size_t{1} << 20);  // refuses anything but tiny scenes
+        checkMemory(s, memoryBytes);  // refuses anything but tiny scenes
         const ParticleStore particles = createParticles(s);
         if (particles.size() != countParticles(s))
             throw std::logic_error("particle count mismatch");
-        return true;
-    } catch (const SceneError&) {
-        return false;
+        return {true, {}};
+    } catch (const SceneError& e) {
+        return {false, e.what()};
     }
 }
 
@@ -46,7 +53,9 @@ inline constexpr const char* kOverrideBaseScene = R"({
 })";
 
 // Each line is one `--set` argument, applied to kOverrideBaseScene.
-inline bool overrides(std::string_view text) {
+// Lines that are not FIELD=VALUE are skipped (as the CLI would refuse them
+// one by one); the outcome is that of the scene with the others applied.
+inline Outcome overrides(std::string_view text) {
     std::vector<SceneOverride> list;
     std::size_t start = 0;
     while (start <= text.size() && list.size() < 16) {
@@ -61,32 +70,32 @@ inline bool overrides(std::string_view text) {
         const Scene s = parseScene(kOverrideBaseScene, "fuzz.json", list);
         checkMemory(s, std::size_t{1} << 20);
         createParticles(s);
-        return true;
-    } catch (const SceneError&) {
-        return false;
+        return {true, {}};
+    } catch (const SceneError& e) {
+        return {false, e.what()};
     }
 }
 
-inline bool ply(std::string_view bytes) {
+inline Outcome ply(std::string_view bytes) {
     std::istringstream in{std::string(bytes), std::ios::binary};
     try {
         const ParticleFrame frame = readParticlesPly(in, "fuzz.ply");
         // 12 bytes per particle at least: never more particles than the input holds.
         if (frame.position.size() > bytes.size() / 12)
             throw std::logic_error("more particles than bytes");
-        return true;
-    } catch (const IoError&) {
-        return false;
+        return {true, {}};
+    } catch (const IoError& e) {
+        return {false, e.what()};
     }
 }
 
-inline bool checkpoint(std::string_view bytes) {
+inline Outcome checkpoint(std::string_view bytes) {
     std::istringstream in{std::string(bytes), std::ios::binary};
     try {
         readCheckpoint(in, "fuzz.pbfck");
-        return true;
-    } catch (const IoError&) {
-        return false;
+        return {true, {}};
+    } catch (const IoError& e) {
+        return {false, e.what()};
     }
 }
 

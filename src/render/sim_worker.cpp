@@ -146,6 +146,10 @@ void SimulationWorker::run() {
             }
             publish(*world, nullptr, 0.0);
         }
+        if (failed_) {  // requests made while failed are dropped, not queued
+            stepRequests_ = 0;
+            playing_ = false;
+        }
         const int stopAt = pauseAt_;
         if (stopAt >= 0 && world && world->frame() >= stopAt) {
             playing_ = false;

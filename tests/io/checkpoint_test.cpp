@@ -12,7 +12,7 @@
 
 #include "pbf/io.hpp"
 #include "pbf/run.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "support/reliability_util.hpp"
 
 namespace {
@@ -24,14 +24,7 @@ using pbf::test::smallDamBreak;
 
 constexpr int kFrames = 7;
 
-pbf::RunOptions optionsFor(const fs::path& dir, int frames) {
-    pbf::RunOptions options;
-    options.outputDirectory = dir;
-    options.frames = frames;
-    options.checkpointEvery = 3;
-    options.checkpointSeconds = 0.0;
-    return options;
-}
+using pbf::test::withOutput;
 
 void expectSameFrames(const fs::path& a, const fs::path& b, int first, int last) {
     for (int f = first; f <= last; ++f) {
@@ -58,19 +51,19 @@ TEST(Checkpoint, ResumedRunWritesBitIdenticalFrames) {
     const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path straight = freshTestDirectory("straight");
-    pbf::runScene(scene, optionsFor(straight, kFrames));
+    pbf::runScene(withOutput(scene, straight, kFrames), {});
 
     const fs::path crashed = freshTestDirectory("crashed");
-    pbf::RunOptions options = optionsFor(crashed, kFrames);
+    pbf::RunOptions options;
     options.onFrame = [](const pbf::FrameReport& r) {
         if (r.frame == 5) throw std::runtime_error("simulated crash");
     };
-    EXPECT_THROW(pbf::runScene(scene, options), std::runtime_error);
+    EXPECT_THROW(pbf::runScene(withOutput(scene, crashed, kFrames), options), std::runtime_error);
     EXPECT_EQ(pbf::readCheckpoint(crashed / pbf::kCheckpointFileName).frame, 3);
 
     options.onFrame = nullptr;
     options.resume = true;
-    const pbf::RunSummary resumed = pbf::runScene(scene, options);
+    const pbf::RunSummary resumed = pbf::runScene(withOutput(scene, crashed, kFrames), options);
     EXPECT_EQ(resumed.resumedFromFrame, 3);
     EXPECT_EQ(resumed.frames, kFrames);
     expectSameFrames(straight, crashed, 0, kFrames);
@@ -93,12 +86,12 @@ TEST(Checkpoint, ExtendingAFinishedRunMatchesALongerRun) {
     const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path straight = freshTestDirectory("long");
-    pbf::runScene(scene, optionsFor(straight, 5));
+    pbf::runScene(withOutput(scene, straight, 5), {});
     const fs::path extended = freshTestDirectory("extended");
-    pbf::runScene(scene, optionsFor(extended, 2));
-    pbf::RunOptions more = optionsFor(extended, 5);
+    pbf::runScene(withOutput(scene, extended, 2), {});
+    pbf::RunOptions more;
     more.resume = true;
-    EXPECT_EQ(pbf::runScene(scene, more).resumedFromFrame, 2);
+    EXPECT_EQ(pbf::runScene(withOutput(scene, extended, 5), more).resumedFromFrame, 2);
     expectSameFrames(straight, extended, 0, 5);
     fs::remove_all(straight);
     fs::remove_all(extended);
@@ -107,10 +100,10 @@ TEST(Checkpoint, ExtendingAFinishedRunMatchesALongerRun) {
 TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
     const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
-    pbf::Simulation original(scene);
-    for (int f = 0; f < 3; ++f) original.advanceFrame();
+    pbf::World original(scene);
+    for (int f = 0; f < 3; ++f) pbf::test::stepFrame(original);
     const fs::path dir = freshTestDirectory("roundtrip");
-    pbf::Checkpoint saved = pbf::captureCheckpoint(original);
+    pbf::Checkpoint saved = pbf::captureCheckpoint(original, scene.fingerprint);
     saved.totals.statsCsv = "header\nrow\n";
     saved.totals.substeps = 42;
     pbf::writeCheckpoint(dir / "c.pbfck", saved);
@@ -119,13 +112,13 @@ TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
     EXPECT_EQ(loaded.frame, 3);
     EXPECT_EQ(loaded.totals.statsCsv, "header\nrow\n");
     EXPECT_EQ(loaded.totals.substeps, 42);
-    pbf::Simulation restored(scene);
-    pbf::restoreCheckpoint(loaded, restored, "c.pbfck");
+    pbf::World restored(scene);
+    pbf::restoreCheckpoint(loaded, restored, scene.fingerprint, "c.pbfck");
     EXPECT_EQ(restored.frame(), 3);
     EXPECT_EQ(restored.particles().id, original.particles().id);  // memory order kept
     EXPECT_EQ(restored.particles().nextId(), original.particles().nextId());
-    original.advanceFrame();
-    restored.advanceFrame();
+    pbf::test::stepFrame(original);
+    pbf::test::stepFrame(restored);
     const auto& a = original.particles();
     const auto& b = restored.particles();
     ASSERT_EQ(a.size(), b.size());
@@ -139,8 +132,8 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
     const fs::path dir = freshTestDirectory("damaged");
-    pbf::Simulation simulation(scene);
-    pbf::writeCheckpoint(dir / "good.pbfck", pbf::captureCheckpoint(simulation));
+    pbf::World world(scene);
+    pbf::writeCheckpoint(dir / "good.pbfck", pbf::captureCheckpoint(world, scene.fingerprint));
     const std::string good = fileBytes(dir / "good.pbfck");
 
     std::ofstream(dir / "truncated.pbfck", std::ios::binary) << good.substr(0, good.size() / 2);
@@ -172,19 +165,20 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
 TEST(Checkpoint, ResumeWithAnotherSceneOrWithoutCheckpointIsRefused) {
     const pbf::test::ThreadCountScope oneThread(1);
     const fs::path dir = freshTestDirectory("othersc");
-    pbf::runScene(smallDamBreak(), optionsFor(dir, 2));
-    pbf::RunOptions resume = optionsFor(dir, 4);
+    pbf::runScene(withOutput(smallDamBreak(), dir, 2), {});
+    pbf::RunOptions resume;
     resume.resume = true;
     const pbf::Scene other = smallDamBreak({pbf::parseOverride("solver.iterations=5")});
-    EXPECT_NE(expectIoError([&] { pbf::runScene(other, resume); }).find("different scene"),
+    EXPECT_NE(expectIoError([&] {
+                  pbf::runScene(withOutput(other, dir, 4), resume);
+              }).find("different scene"),
               std::string::npos);
     // Nothing was overwritten by the refused resume.
     EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(3)));
 
     const fs::path empty = freshTestDirectory("nockpt");
-    resume.outputDirectory = empty;
     EXPECT_NE(expectIoError([&] {
-                  pbf::runScene(smallDamBreak(), resume);
+                  pbf::runScene(withOutput(smallDamBreak(), empty, 4), resume);
               }).find("no checkpoint to resume from"),
               std::string::npos);
     fs::remove_all(dir);
@@ -199,7 +193,7 @@ TEST(Checkpoint, FingerprintIgnoresFormattingAndOutputSettingsOnly) {
     };
     const std::uint64_t base = fingerprint(smallSceneJson());
     EXPECT_EQ(base, fingerprint(smallSceneJson(R"("output": {"frames": 7, "directory": "elsewhere",
-                                                  "checkpoint_every": 3, "max_speed": 50})")));
+                                                  "checkpoint_every": 3}, "guard": {"max_speed": 50})")));
     EXPECT_EQ(base, fingerprint(smallSceneJson(), {pbf::parseOverride("output.frames=12")}));
     EXPECT_NE(base, fingerprint(smallSceneJson(), {pbf::parseOverride("solver.iterations=5")}));
     EXPECT_NE(base, fingerprint(smallSceneJson(R"("output": {"fps": 60})")));
@@ -217,17 +211,16 @@ TEST(Checkpoint, ResumeWithEmittersAndSolidsIsBitIdentical) {
     const pbf::Scene scene = pbf::loadScene(pbf::test::scenePath("pour_bunny.json"),
                                             {pbf::parseOverride("particle_radius=0.016")});
     const fs::path straight = freshTestDirectory("pour_straight");
-    pbf::runScene(scene, optionsFor(straight, 8));
+    pbf::runScene(withOutput(scene, straight, 8), {});
     const fs::path crashed = freshTestDirectory("pour_crashed");
-    pbf::RunOptions options = optionsFor(crashed, 8);
-    options.checkpointEvery = 3;
+    pbf::RunOptions options;
     options.onFrame = [](const pbf::FrameReport& r) {
         if (r.frame == 5) throw std::runtime_error("simulated crash");
     };
-    EXPECT_THROW(pbf::runScene(scene, options), std::runtime_error);
+    EXPECT_THROW(pbf::runScene(withOutput(scene, crashed, 8), options), std::runtime_error);
     options.onFrame = nullptr;
     options.resume = true;
-    EXPECT_EQ(pbf::runScene(scene, options).resumedFromFrame, 3);
+    EXPECT_EQ(pbf::runScene(withOutput(scene, crashed, 8), options).resumedFromFrame, 3);
     expectSameFrames(straight, crashed, 0, 8);
     // Water was being emitted across the resume point.
     EXPECT_LT(pbf::readParticlesPly(straight / pbf::frameFileName(3)).position.size(),

@@ -2,6 +2,8 @@
 #include "pbf/io.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <unistd.h>
 
 #include <filesystem>
@@ -96,10 +98,10 @@ TEST(AtomicWrite, UnwritableDirectoryIsReported) {
 
 TEST(Run, WritesFramesStatsAndSummary) {
     const fs::path dir = freshDirectory("run");
-    const pbf::Scene scene = pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
+    pbf::Scene scene = pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
+    scene.output.directory = dir.string();
+    scene.output.frames = 3;
     pbf::RunOptions options;
-    options.outputDirectory = dir;
-    options.frames = 3;
     int callbacks = 0;
     options.onFrame = [&](const pbf::FrameReport&) { ++callbacks; };
     const pbf::RunSummary summary = pbf::runScene(scene, options);
@@ -119,7 +121,13 @@ TEST(Run, WritesFramesStatsAndSummary) {
                            0),
               0u);
     int rows = 0;
-    while (std::getline(csv, line)) ++rows;
+    while (std::getline(csv, line)) {
+        // Whole rows, one per frame, in order (the file is appended to).
+        EXPECT_EQ(line.rfind(std::to_string(rows) + ",", 0), 0u) << line;
+        EXPECT_EQ(std::count(line.begin(), line.end(), ','),
+                  std::count(header.begin(), header.end(), ','));
+        ++rows;
+    }
     EXPECT_EQ(rows, 4);
     EXPECT_TRUE(fs::exists(dir / "summary.json"));
     // Nothing but the outputs: no temporaries left behind.
@@ -129,11 +137,10 @@ TEST(Run, WritesFramesStatsAndSummary) {
 }
 
 TEST(Run, UnwritableOutputDirectoryIsReported) {
-    const pbf::Scene scene = pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
-    pbf::RunOptions options;
-    options.outputDirectory = "/proc/pbf_cannot_write_here";
-    options.frames = 1;
-    EXPECT_THROW(pbf::runScene(scene, options), pbf::IoError);
+    pbf::Scene scene = pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
+    scene.output.directory = "/proc/pbf_cannot_write_here";
+    scene.output.frames = 1;
+    EXPECT_THROW(pbf::runScene(scene, {}), pbf::IoError);
 }
 
 }  // namespace

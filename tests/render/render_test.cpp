@@ -382,7 +382,7 @@ TEST(SolidMesh, ObjMeshLiesOnTheSolversSurface) {
     for (std::size_t v = 0; v < 3 * mesh.triangleCount(); ++v) {
         Vec3 normal;
         // The level set's voxels are a fraction of the particle radius (0.02 m).
-        EXPECT_NEAR((*solids)[0].signedDistance(mesh.position(v), normal), 0.0f, 0.01f);
+        EXPECT_NEAR(solids->signedDistance(mesh.position(v), 1.0f, normal), 0.0f, 0.01f);
     }
     // A missing file names the scene and the field.
     const Scene missing = parseScene(

@@ -72,5 +72,36 @@ TEST(SimulationWorker, ReportsRefusedParameters) {
     EXPECT_EQ(snapshot.report.iterations, 7);
 }
 
+// A settings change that makes the state guard fire (gravity 100 g against
+// a 2 m/s limit): the worker reports the failed frame, pauses, refuses to
+// step on until a reset, and shuts down cleanly (before, the exception left
+// the thread and ended the program in std::terminate).
+TEST(SimulationWorker, StateGuardFailureAfterASettingsChangeIsReported) {
+    const Scene scene = parseScene(test::smallSceneJson(R"("guard": {"max_speed": 2})"), "small");
+    SimulationWorker worker(scene, false);
+    SimulationParams heavy = scene.simulation;
+    heavy.gravity = {0.0f, -981.0f, 0.0f};
+    worker.setParams(heavy);
+    worker.setPlaying(true);
+    ASSERT_TRUE(waitFor([&] { return worker.failed(); }));
+    EXPECT_FALSE(worker.playing());
+    EXPECT_NE(worker.lastError().find("bad state in frame 1"), std::string::npos)
+        << worker.lastError();
+    EXPECT_NE(worker.lastError().find("exceeds the limit of 2 m/s"), std::string::npos)
+        << worker.lastError();
+    const int frames = worker.framesSimulated();
+    worker.requestStep();
+    worker.setPlaying(true);
+    std::this_thread::sleep_for(100ms);
+    EXPECT_EQ(worker.framesSimulated(), frames) << "stepped on after a failed frame";
+    // A reset (with the gravity put back) runs again.
+    worker.setParams(scene.simulation);
+    worker.requestReset();
+    ASSERT_TRUE(waitFor([&] { return !worker.failed(); }));
+    worker.requestStep();
+    ASSERT_TRUE(waitFor([&] { return worker.framesSimulated() == 1; }));
+    EXPECT_TRUE(worker.lastError().empty()) << worker.lastError();
+}
+
 }  // namespace
 }  // namespace pbf::render

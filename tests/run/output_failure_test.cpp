@@ -19,9 +19,10 @@ pbf::Scene smallScene() {
     return pbf::parseScene(pbf::test::smallSceneJson(), "small.json");
 }
 
-std::string runError(const pbf::RunOptions& options) {
+// Runs the small scene into `dir` for `frames` frames; returns the IoError's message.
+std::string runError(const fs::path& dir, int frames, const pbf::RunOptions& options = {}) {
     try {
-        pbf::runScene(smallScene(), options);
+        pbf::runScene(pbf::test::withOutput(smallScene(), dir, frames), options);
     } catch (const pbf::IoError& e) {
         return e.what();
     }
@@ -32,10 +33,7 @@ std::string runError(const pbf::RunOptions& options) {
 TEST(OutputFailure, OutputPathBlockedByAFileIsReported) {
     const fs::path dir = freshTestDirectory("blocked");
     std::ofstream(dir / "file") << "x";
-    pbf::RunOptions options;
-    options.outputDirectory = dir / "file" / "out";
-    options.frames = 1;
-    const std::string message = runError(options);
+    const std::string message = runError(dir / "file" / "out", 1);
     EXPECT_NE(message.find((dir / "file" / "out").string()), std::string::npos) << message;
     EXPECT_NE(message.find("cannot create output directory"), std::string::npos) << message;
     fs::remove_all(dir);
@@ -46,10 +44,8 @@ TEST(OutputFailure, OutputPathBlockedByAFileIsReported) {
 TEST(OutputFailure, FullDiskIsReportedBeforeWriting) {
     const fs::path dir = freshTestDirectory("full");
     pbf::RunOptions options;
-    options.outputDirectory = dir;
-    options.frames = 2;
     options.reserveBytes = std::numeric_limits<std::uintmax_t>::max() / 2;
-    const std::string message = runError(options);
+    const std::string message = runError(dir, 2, options);
     EXPECT_NE(message.find("output disk full"), std::string::npos) << message;
     EXPECT_NE(message.find(dir.string()), std::string::npos) << message;
     EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(0)));
@@ -61,12 +57,10 @@ TEST(OutputFailure, FullDiskIsReportedBeforeWriting) {
 TEST(OutputFailure, DirectoryRemovedDuringTheRunIsReported) {
     const fs::path dir = freshTestDirectory("vanish");
     pbf::RunOptions options;
-    options.outputDirectory = dir / "out";
-    options.frames = 4;
     options.onFrame = [&](const pbf::FrameReport& r) {
         if (r.frame == 1) fs::remove_all(dir / "out");
     };
-    const std::string message = runError(options);
+    const std::string message = runError(dir / "out", 4, options);
     EXPECT_NE(message.find((dir / "out").string()), std::string::npos) << message;
     fs::remove_all(dir);
 }

@@ -52,4 +52,15 @@ inline Scene smallDamBreak(const std::vector<SceneOverride>& extra = {}) {
     return loadScene(scenePath("dam_break.json"), overrides);
 }
 
+// `scene` with its outputs going to `dir`: `frames` frames, a checkpoint
+// every `checkpointEvery` frames (none by wall-clock time).
+inline Scene withOutput(Scene scene, const std::filesystem::path& dir, int frames,
+                        int checkpointEvery = 3) {
+    scene.output.directory = dir.string();
+    scene.output.frames = frames;
+    scene.output.checkpointEvery = checkpointEvery;
+    scene.output.checkpointSeconds = 0.0f;
+    return scene;
+}
+
 }  // namespace pbf::test

@@ -3,7 +3,10 @@
 
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "pbf/scene.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::test {
 
@@ -19,6 +22,13 @@ inline std::string smallSceneJson(const std::string& extra = "") {
       "particle_radius": 0.02,
       "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}])" +
            (extra.empty() ? std::string() : ", " + extra) + "}";
+}
+
+// Steps one frame; a failed frame fails the test with the world's message.
+inline FrameReport stepFrame(World& world) {
+    const FrameResult result = world.stepFrame();
+    EXPECT_TRUE(result.ok()) << result.error->message;
+    return result.report;
 }
 
 }  // namespace pbf::test

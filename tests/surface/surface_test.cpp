@@ -247,16 +247,16 @@ TEST(VdbPoints, MissingAndForeignFilesAreRejectedWithTheName) {
 }
 
 TEST(VdbPoints, RunWritesAPointCachePerFrameWhenTheSceneAsks) {
-    const pbf::Scene scene = pbf::parseScene(
+    pbf::Scene scene = pbf::parseScene(
         pbf::test::smallSceneJson(R"("output": {"vdb_points": true})"), "small.json");
     ASSERT_TRUE(scene.output.writeVdbPoints);
     EXPECT_FALSE(pbf::parseScene(pbf::test::smallSceneJson(), "small.json").output.writeVdbPoints);
     const fs::path dir = freshDirectory("runvdb");
+    scene.output.directory = dir.string();
+    scene.output.frames = 2;
     pbf::RunOptions options;
-    options.outputDirectory = dir;
-    options.frames = 2;
-    options.writeFrame = [&](int frame, const pbf::ParticleStore& particles) {
-        writeParticlesVdb(dir / ("frame_" + std::to_string(frame) + ".vdb"), particles);
+    options.writeFrame = [&](int frame, const pbf::World& world) {
+        writeParticlesVdb(dir / ("frame_" + std::to_string(frame) + ".vdb"), world.particles());
     };
     pbf::runScene(scene, options);
     for (int f = 0; f <= 2; ++f) {

@@ -6,7 +6,8 @@
 #include <cmath>
 
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
+#include "support/test_util.hpp"
 
 namespace {
 
@@ -20,12 +21,12 @@ pbf::Scene emitterScene(const std::string& emitter) {
 TEST(Emitter, CountFollowsTheRate) {
     const pbf::Scene scene = emitterScene(
         R"({"position": [0.5, 0.9, 0.5], "direction": [0, -1, 0], "radius": 0.05, "speed": 1.0, "start": 0.1, "end": 0.4})");
-    pbf::Simulation sim(scene);
+    pbf::World sim(scene);
     ASSERT_EQ(sim.emitters().size(), 1u);
     const pbf::Emitter& emitter = sim.emitters()[0];
     const double interval = 0.02 / 1.0;  // one disc per spacing travelled
     while (sim.time() < 0.5 - 1e-9) {
-        sim.advanceFrame();
+        pbf::test::stepFrame(sim);
         const double active = std::clamp(sim.time() - 0.1, 0.0, 0.3);
         const double expected = emitter.rate() * active;
         // Within one disc (the particles of one emission interval).
@@ -47,8 +48,8 @@ TEST(Emitter, CountFollowsTheRate) {
 TEST(Emitter, BudgetIsRespected) {
     const pbf::Scene scene = emitterScene(
         R"({"position": [0.5, 0.9, 0.5], "direction": [0, -1, 0], "radius": 0.05, "speed": 2.0, "max_particles": 100})");
-    pbf::Simulation sim(scene);
-    while (sim.time() < 0.3) sim.advanceFrame();
+    pbf::World sim(scene);
+    while (sim.time() < 0.3) pbf::test::stepFrame(sim);
     EXPECT_EQ(sim.particles().size(), 100u);
 }
 

@@ -10,7 +10,7 @@
 
 #include "pbf/checkpoint.hpp"
 #include "pbf/run.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "support/reliability_util.hpp"
 
 namespace {
@@ -19,57 +19,56 @@ namespace fs = std::filesystem;
 using pbf::test::freshTestDirectory;
 using pbf::test::smallDamBreak;
 
+// A NaN written into a velocity (through the id-ordered arrays, as a script
+// would) fails the next frame before its first step, naming the particle.
 TEST(StateGuard, NanInjectedIntoAVelocityIsReportedWithTheParticleId) {
     const pbf::test::ThreadCountScope oneThread(1);
-    pbf::Simulation simulation(smallDamBreak());
-    simulation.advanceFrame();
-    pbf::ParticleStore& p = simulation.particles();
-    const std::size_t index = p.size() / 3;
-    const std::uint32_t id = p.id[index];
-    p.velocity.y[index] = std::numeric_limits<float>::quiet_NaN();
-    try {
-        simulation.advanceFrame();
-        FAIL() << "the NaN was not caught";
-    } catch (const pbf::StateError& e) {
-        EXPECT_EQ(e.particle.id, id);
-        EXPECT_EQ(e.frame, 2);
-        EXPECT_EQ(e.substep, 0);
-        const std::string message = e.what();
-        EXPECT_NE(message.find("particle id " + std::to_string(id)), std::string::npos) << message;
-        EXPECT_NE(message.find("velocity is not finite"), std::string::npos) << message;
-        EXPECT_NE(message.find("frame 2"), std::string::npos) << message;
-    }
+    pbf::World world(smallDamBreak());
+    pbf::test::stepFrame(world);
+    pbf::ParticleArrays& a = world.arraysById();
+    const std::uint32_t id = static_cast<std::uint32_t>(a.count / 3);
+    (*a.velocity)[3 * id + 1] = std::numeric_limits<float>::quiet_NaN();
+    const pbf::FrameResult result = world.stepFrame();
+    ASSERT_FALSE(result.ok()) << "the NaN was not caught";
+    const pbf::StepError& e = *result.error;
+    EXPECT_EQ(e.kind, pbf::StepError::Kind::BadState);
+    ASSERT_TRUE(e.particle);
+    EXPECT_EQ(e.particle->id, id);
+    EXPECT_EQ(e.frame, 2);
+    EXPECT_EQ(e.substep, 0);
+    EXPECT_NE(e.message.find("particle id " + std::to_string(id)), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("velocity is not finite"), std::string::npos) << e.message;
+    EXPECT_NE(e.message.find("frame 2"), std::string::npos) << e.message;
+    EXPECT_EQ(world.frame(), 1);  // the frame did not count
 }
 
 TEST(StateGuard, InfinitePositionIsReported) {
     const pbf::test::ThreadCountScope oneThread(1);
-    pbf::Simulation simulation(smallDamBreak());
-    simulation.particles().position.x[5] = std::numeric_limits<float>::infinity();
-    try {
-        simulation.advanceFrame();
-        FAIL();
-    } catch (const pbf::StateError& e) {
-        EXPECT_EQ(e.particle.id, simulation.particles().id[5]);
-        EXPECT_NE(std::string(e.what()).find("position is not finite"), std::string::npos);
-    }
+    pbf::World world(smallDamBreak());
+    (*world.arraysById().position)[3 * 5] = std::numeric_limits<float>::infinity();
+    const pbf::FrameResult result = world.stepFrame();
+    ASSERT_FALSE(result.ok());
+    ASSERT_TRUE(result.error->particle);
+    EXPECT_EQ(result.error->particle->id, 5u);
+    EXPECT_NE(result.error->message.find("position is not finite"), std::string::npos);
 }
 
 // A limit the falling water crosses during a frame: the check after a solver
 // step fires, at a substep > 0, for the first particle over the limit.
 TEST(StateGuard, SpeedLimitStopsAfterTheStepThatExceedsIt) {
     const pbf::test::ThreadCountScope oneThread(1);
-    pbf::Simulation simulation(smallDamBreak({pbf::parseOverride("output.max_speed=0.3")}));
-    EXPECT_DOUBLE_EQ(simulation.speedLimit(), 0.3f);
-    try {
-        for (int f = 0; f < 30; ++f) simulation.advanceFrame();
-        FAIL() << "the speed limit never fired";
-    } catch (const pbf::StateError& e) {
-        EXPECT_GT(e.substep, 0);
-        EXPECT_EQ(e.stage, "after solver step");
-        EXPECT_GT(pbf::length(e.particle.velocity), 0.3f);
-        EXPECT_NE(std::string(e.what()).find("exceeds the limit of 0.3 m/s"), std::string::npos)
-            << e.what();
-    }
+    pbf::World world(smallDamBreak({pbf::parseOverride("guard.max_speed=0.3")}));
+    EXPECT_DOUBLE_EQ(world.speedLimit(), 0.3f);
+    pbf::FrameResult result;
+    for (int f = 0; f < 30 && result.ok(); ++f) result = world.stepFrame();
+    ASSERT_FALSE(result.ok()) << "the speed limit never fired";
+    const pbf::StepError& e = *result.error;
+    EXPECT_GT(e.substep, 0);
+    EXPECT_EQ(e.stage, "after solver step");
+    ASSERT_TRUE(e.particle);
+    EXPECT_GT(pbf::length(e.particle->velocity), 0.3f);
+    EXPECT_NE(e.message.find("exceeds the limit of 0.3 m/s (guard.max_speed)"), std::string::npos)
+        << e.message;
 }
 
 TEST(StateGuard, AutomaticLimitAllowsFreeFallButNotBlowUps) {
@@ -88,29 +87,41 @@ TEST(StateGuard, AutomaticLimitAllowsFreeFallButNotBlowUps) {
     EXPECT_FALSE(pbf::findBadParticle(p, 0.0));  // speed check off
 }
 
-// runScene: frames before the failure are written, none after; the last
-// good frame's state is saved as the checkpoint; the message says where.
-TEST(StateGuard, RunStopsSavesLastGoodStateAndWritesNoBadFrame) {
+// runScene: frames before the failure are written, none after; the run
+// returns the error (no exception), its message names the last checkpoint,
+// and resuming from it with a higher limit finishes the run.
+TEST(StateGuard, RunStopsWritesNoBadFrameAndCanBeResumedFromTheLastCheckpoint) {
     const pbf::test::ThreadCountScope oneThread(1);
     const fs::path dir = freshTestDirectory("guardrun");
-    pbf::RunOptions options;
-    options.outputDirectory = dir;
-    options.frames = 30;
-    options.checkpointEvery = 0;
-    options.checkpointSeconds = 0.0;
-    try {
-        pbf::runScene(smallDamBreak({pbf::parseOverride("output.max_speed=0.3")}), options);
-        FAIL() << "the run did not stop";
-    } catch (const pbf::StateError& e) {
-        const int lastGood = e.frame - 1;
-        EXPECT_TRUE(fs::exists(dir / pbf::frameFileName(lastGood)));
-        EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(e.frame)));
-        EXPECT_EQ(pbf::readCheckpoint(dir / pbf::kCheckpointFileName).frame, lastGood);
-        EXPECT_NE(
-            std::string(e.what()).find("frames up to " + std::to_string(lastGood) + " are good"),
-            std::string::npos)
-            << e.what();
-    }
+    const pbf::Scene limited = pbf::test::withOutput(
+        smallDamBreak({pbf::parseOverride("guard.max_speed=1.5")}), dir, 30, 2);
+    const pbf::RunSummary s = pbf::runScene(limited, {});
+    ASSERT_TRUE(s.error) << "the run did not stop";
+    const int lastGood = s.error->frame - 1;
+    EXPECT_EQ(s.frames, lastGood);
+    EXPECT_TRUE(fs::exists(dir / pbf::frameFileName(lastGood)));
+    EXPECT_FALSE(fs::exists(dir / pbf::frameFileName(s.error->frame)));
+    const int checkpointFrame = pbf::readCheckpoint(dir / pbf::kCheckpointFileName).frame;
+    EXPECT_LE(checkpointFrame, lastGood);
+    EXPECT_GT(checkpointFrame, lastGood - 2);  // one every 2 frames
+    EXPECT_NE(s.error->message.find("frames up to " + std::to_string(lastGood) + " are written"),
+              std::string::npos)
+        << s.error->message;
+    EXPECT_NE(s.error->message.find("checkpoint of frame " + std::to_string(checkpointFrame)),
+              std::string::npos)
+        << s.error->message;
+    // summary.json records why the run stopped.
+    EXPECT_NE(pbf::test::fileBytes(dir / "summary.json").find("exceeds the limit"),
+              std::string::npos);
+    // The guard is not part of the scene's fingerprint: raise it and resume.
+    pbf::RunOptions resume;
+    resume.resume = true;
+    const pbf::RunSummary resumed = pbf::runScene(
+        pbf::test::withOutput(smallDamBreak({pbf::parseOverride("guard.max_speed=50")}), dir, 12),
+        resume);
+    EXPECT_FALSE(resumed.error);
+    EXPECT_EQ(resumed.resumedFromFrame, checkpointFrame);
+    EXPECT_TRUE(fs::exists(dir / pbf::frameFileName(12)));
     fs::remove_all(dir);
 }
 

@@ -4,34 +4,31 @@
 #include <cstring>
 
 #include "pbf/scene.hpp"
-#include "pbf/simulation.hpp"
+#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
 #include "support/test_util.hpp"
 
 namespace {
 
-// A coarse dam break with vorticity confinement on (every pass runs).
+// A coarse dam break with vorticity confinement on (every pass runs), one
+// fixed step of 1/240 s per frame.
 pbf::Scene coarseDamBreak() {
     return pbf::loadScene(
         pbf::test::scenePath("dam_break.json"),
-        {pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05")});
+        {pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05"),
+         pbf::parseOverride("output.fps=240"), pbf::parseOverride("solver.time_step=fixed"),
+         pbf::parseOverride("solver.substeps=1")});
 }
 
-pbf::ParticleStore runSteps(int threads, int steps) {
+// `steps` solver steps on `threads` threads, the CPU backend's neighbour
+// lists compact (16-bit) when their span allows or forced wide (32-bit).
+pbf::ParticleStore runSteps(int threads, int steps, std::uint32_t compactListSpan = 65536) {
     pbf::setThreadCount(threads);
-    pbf::Simulation sim(coarseDamBreak());
-    for (int k = 0; k < steps; ++k) sim.solver().step(sim.particles(), 1.0f / 240.0f);
-    return sim.particles();
-}
-
-// The same steps with the solver alone, its neighbour lists compact (16-bit)
-// or forced wide (32-bit).
-pbf::ParticleStore runSolver(std::uint32_t compactListSpan, int steps) {
-    const pbf::Scene scene = coarseDamBreak();
-    pbf::ParticleStore particles = pbf::createParticles(scene);
-    pbf::Solver solver(scene.simulation, nullptr, compactListSpan);
-    for (int k = 0; k < steps; ++k) solver.step(particles, 1.0f / 240.0f);
-    return particles;
+    pbf::WorldOptions options;
+    options.backendOptions.compactListSpan = compactListSpan;
+    pbf::World world(coarseDamBreak(), options);
+    for (int k = 0; k < steps; ++k) pbf::test::stepFrame(world);
+    return world.particles();
 }
 
 bool bitEqual(const std::vector<float>& a, const std::vector<float>& b) {
@@ -64,8 +61,9 @@ TEST(Determinism, OneAndTwoThreadsGiveIdenticalBits) {
 
 TEST(Determinism, CompactAndWideNeighbourListsGiveIdenticalBits) {
     // Same neighbours in the same order, so the same arithmetic.
-    const pbf::ParticleStore compact = runSolver(65536, 60);
-    const pbf::ParticleStore wide = runSolver(16, 60);
+    const pbf::ParticleStore compact = runSteps(2, 60, 65536);
+    const pbf::ParticleStore wide = runSteps(2, 60, 16);
+    pbf::setThreadCount(pbf::hardwareThreadCount());
     expectIdenticalBits(compact, wide);
 }
 

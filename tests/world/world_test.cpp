@@ -1,0 +1,168 @@
+// pbf::World: definitions built in code, live settings, particles read and
+// written by id, particles added at run time, errors as values.
+#include "pbf/world.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "pbf/scene.hpp"
+#include "support/reliability_util.hpp"
+#include "support/test_util.hpp"
+
+namespace {
+
+using pbf::Vec3;
+using pbf::test::stepFrame;
+
+// A tank with one block of water, built in code with the documented defaults.
+pbf::WorldDef tank() {
+    pbf::WorldDef def;
+    def.name = "tank";
+    def.simulation.domain = {{0, 0, 0}, {0.4f, 0.4f, 0.4f}};
+    def.simulation.particleRadius = 0.02f;
+    def.fluidBlocks.push_back({{{0, 0, 0}, {0.2f, 0.3f, 0.4f}}, {}});
+    return def;
+}
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(World, BuiltInCodeFromADefinition) {
+    pbf::World world(tank());
+    EXPECT_EQ(world.particleCount(), 5u * 7u * 10u);  // lattice spacing 2 r = 0.04 m
+    EXPECT_EQ(world.frame(), 0);
+    const pbf::FrameReport r = stepFrame(world);
+    EXPECT_EQ(r.frame, 1);
+    EXPECT_NEAR(world.time(), 1.0 / 30.0, 1e-12);
+    EXPECT_GT(r.substeps, 0);
+    EXPECT_GT(r.state.kineticEnergy, 0.0);  // the column started to collapse
+}
+
+TEST(World, InvalidDefinitionsNameTheField) {
+    pbf::WorldDef outside = tank();
+    outside.fluidBlocks[0].box.max.x = 0.5f;
+    try {
+        pbf::World world(outside);
+        FAIL() << "a block outside the domain was accepted";
+    } catch (const pbf::SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("tank: fluid_blocks[0].min: the block must lie inside"),
+                  std::string::npos)
+            << e.what();
+    }
+    pbf::WorldDef badEmitter = tank();
+    badEmitter.emitters.push_back({});
+    badEmitter.emitters[0].position = {0.3f, 0.3f, 0.3f};
+    badEmitter.emitters[0].speed = 0.0f;
+    EXPECT_EQ(pbf::validate(badEmitter), "emitters[0].speed: must be positive");
+    pbf::WorldDef fps = tank();
+    fps.fps = 0.0f;
+    EXPECT_EQ(pbf::validate(fps), "output.fps: must be in (0, 10000]");
+}
+
+// The iteration count is observed in the solver's work (the passes it ran,
+// counted in its loop) and in the physics (more iterations, less compression),
+// not read back from the settings.
+TEST(World, ChangedIterationsChangeTheSolversWork) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    pbf::World one(tank());
+    pbf::World many(tank());
+    for (int f = 0; f < 3; ++f) {  // the column is collapsing: the constraint is active
+        stepFrame(one);
+        stepFrame(many);
+    }
+    pbf::SimulationParams settings = one.settings();
+    settings.solver.iterations = 1;
+    one.applySettings(settings);
+    settings.solver.iterations = 8;
+    many.applySettings(settings);
+    const pbf::FrameReport a = stepFrame(one);
+    const pbf::FrameReport b = stepFrame(many);
+    EXPECT_EQ(a.stageMs.iterations, 1.0 * a.substeps);
+    EXPECT_EQ(b.stageMs.iterations, 8.0 * b.substeps);
+    EXPECT_EQ(b.iterations, 8);
+    EXPECT_LT(b.state.averageDensityError, 0.5 * a.state.averageDensityError);
+    EXPECT_LT(b.state.maxDensityError, a.state.maxDensityError);
+}
+
+TEST(World, InvalidOrStructuralSettingsAreRefusedAndChangeNothing) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    pbf::World world(tank());
+    pbf::World untouched(tank());
+    pbf::SimulationParams bad = world.settings();
+    bad.solver.iterations = 0;
+    try {
+        world.applySettings(bad);
+        FAIL() << "iterations 0 accepted";
+    } catch (const pbf::SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("solver.iterations: must be in [1, 100], got 0"),
+                  std::string::npos)
+            << e.what();
+    }
+    pbf::SimulationParams radius = world.settings();
+    radius.particleRadius *= 2.0f;
+    try {
+        world.applySettings(radius);
+        FAIL() << "a new particle radius accepted";
+    } catch (const pbf::SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("particle_radius: cannot change"), std::string::npos);
+    }
+    // Nothing changed: the world steps exactly as one never touched.
+    for (int f = 0; f < 2; ++f) {
+        stepFrame(world);
+        stepFrame(untouched);
+    }
+    EXPECT_TRUE(sameBits(world.particles().position.y, untouched.particles().position.y));
+}
+
+// Writes to the id-ordered arrays reach the solver at the next step; reads
+// follow the simulation after every frame.
+TEST(World, ArraysByIdAreViewsOfTheParticles) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    pbf::World world(tank());
+    pbf::ParticleArrays& a = world.arraysById();
+    ASSERT_EQ(a.count, world.particleCount());
+    for (std::uint32_t k = 0; k < a.count; ++k) ASSERT_EQ((*a.id)[k], k);
+    // Throw particle 7 up from the far corner of the tank.
+    const std::uint32_t id = 7;
+    (*a.position)[3 * id + 0] = 0.35f;
+    (*a.position)[3 * id + 1] = 0.3f;
+    (*a.position)[3 * id + 2] = 0.35f;
+    (*a.velocity)[3 * id + 1] = 1.0f;
+    const std::vector<float>* buffer = a.position.get();
+    stepFrame(world);
+    EXPECT_EQ(a.position.get(), buffer);  // same particles: the same buffer, refreshed
+    // Ballistic over one frame: y = 0.3 + v t - g t^2 / 2.
+    const double t = 1.0 / 30.0;
+    EXPECT_NEAR((*a.position)[3 * id + 1], 0.3 + t - 0.5 * 9.81 * t * t, 2e-3);
+    EXPECT_NEAR((*a.position)[3 * id + 0], 0.35, 1e-5);
+    // The memory-order store agrees.
+    const pbf::ParticleStore& p = world.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.id[i] == id) {
+            EXPECT_EQ(p.position.y[i], (*a.position)[3 * id + 1]);
+        }
+    }
+}
+
+TEST(World, ParticlesAddedAtRunTimeGetTheNextIds) {
+    pbf::World world(tank());
+    const std::size_t before = world.particleCount();
+    const std::vector<Vec3> x{{0.3f, 0.35f, 0.2f}, {0.3f, 0.35f, 0.25f}};
+    const std::vector<Vec3> v{{0, -1, 0}, {0, -1, 0}};
+    const std::shared_ptr<std::vector<float>> old = world.arraysById().position;
+    world.addParticles(x, v);
+    EXPECT_EQ(world.particleCount(), before + 2);
+    const pbf::ParticleArrays& a = world.arraysById();
+    EXPECT_EQ(a.count, before + 2);
+    EXPECT_NE(a.position, old);  // new buffers; views of the old ones stay valid
+    EXPECT_EQ(old->size(), 3 * before);
+    EXPECT_EQ((*a.position)[3 * before + 2], 0.2f);
+    EXPECT_EQ((*a.velocity)[3 * (before + 1) + 1], -1.0f);
+    stepFrame(world);
+    EXPECT_LT((*a.position)[3 * before + 1], 0.35f);  // falling
+    EXPECT_THROW(world.addParticles(x, {}), std::invalid_argument);
+}
+
+}  // namespace
