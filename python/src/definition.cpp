@@ -169,7 +169,14 @@ void bindSolids(py::module_& m) {
             "kind", [](const SolidDescription& s) { return kindName(s.kind); },
             [](SolidDescription& s, const std::string& name) { s.kind = parseKind(name); },
             "box, sphere, plane, cylinder or mesh")
-        .def_readwrite("box", &SolidDescription::box)
+        // A box's corners are "min" and "max" as in scene files (an attribute
+        // named "box" would hide the box() factory).
+        .def_property(
+            "min", [](const SolidDescription& s) { return s.box.min; },
+            [](SolidDescription& s, const Vec3& v) { s.box.min = v; }, "box")
+        .def_property(
+            "max", [](const SolidDescription& s) { return s.box.max; },
+            [](SolidDescription& s, const Vec3& v) { s.box.max = v; }, "box")
         .def_readwrite("center", &SolidDescription::center)
         .def_property("radius", floatGetter(&SolidDescription::radius),
                       floatSetter(&SolidDescription::radius))
@@ -185,7 +192,7 @@ void bindSolids(py::module_& m) {
         .def("__repr__", [](const py::object& self) {
             switch (self.cast<const SolidDescription&>().kind) {
                 case Kind::Box:
-                    return reprOf(self, "SolidDescription.box", {"box"});
+                    return reprOf(self, "SolidDescription.box", {"min", "max"});
                 case Kind::Sphere:
                     return reprOf(self, "SolidDescription.sphere", {"center", "radius"});
                 case Kind::Plane:

@@ -172,7 +172,7 @@ void bindSettings(py::module_& m) {
             "Applies several settings at once (all or nothing): update({\"solver.iterations\": "
             "6}, viscosity=0.02).")
         .def("keys",
-             [] {
+             [](const Settings&) {
                  py::list paths;
                  for (const Field& f : kFields) paths.append(f.path);
                  return paths;
