@@ -14,6 +14,9 @@ packages=(
   # pbf_render (PBF_BUILD_VIEWER): viewer, headless EGL rendering, images, video, viewer test
   libglfw3-dev libepoxy-dev libimgui-dev libglm-dev libstb-dev
   libegl-dev libegl-mesa0 libgl1 libglx-mesa0 libgl1-mesa-dri ffmpeg xvfb xauth
+  # the Python module (PBF_BUILD_PYTHON), its tests, and `pip install .` offline in a venv
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-venv python3-pip python3-setuptools python3-wheel
 )
 if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 

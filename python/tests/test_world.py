@@ -1,0 +1,117 @@
+"""pbf.World: stepping, reports, worlds built in code."""
+
+import numpy as np
+import pytest
+
+import pbf
+from conftest import require_device
+
+
+def test_import_exposes_the_interface():
+    for name in ("World", "WorldDef", "FluidBlock", "SolidDescription", "EmitterDescription",
+                 "SimulationParams", "SolverParams", "FluidParams", "run", "load_scene",
+                 "SceneError", "IoError", "StateError", "read_ply"):
+        assert hasattr(pbf, name), name
+    assert pbf.__version__.count(".") == 2
+    assert issubclass(pbf.SceneError, ValueError)
+    assert issubclass(pbf.IoError, OSError)
+    assert issubclass(pbf.StateError, RuntimeError)
+    assert pbf.World.__module__ == "pbf"
+
+
+def test_step_advances_frame_and_time_and_keeps_density(small_world):
+    w = small_world
+    n = w.particle_count
+    assert n > 1000 and w.frame == 0 and w.time == 0.0
+    assert w.positions.shape == (n, 3)
+    report = w.step_frame()
+    assert report.frame == 1 == w.frame
+    assert report.time == pytest.approx(1 / 30) and w.time == pytest.approx(1 / 30)
+    assert report.substeps >= 1 and report.iterations == 4 and report.step_ms > 0
+    reports = w.step_frames(4)
+    assert [r.frame for r in reports] == [2, 3, 4, 5]
+    assert w.time == pytest.approx(5 / 30)
+    stats = reports[-1].statistics
+    assert stats.particles == n and stats.escaped == 0 and stats.inside_solid == 0
+    # PBF keeps the liquid incompressible: compression error ~0.1 %, and the
+    # densities of particles inside the column sit at rest density.
+    assert stats.average_density_error < 0.01
+    assert stats.max_density_error < 0.1
+    assert stats.kinetic_energy > 0 and stats.max_speed > 0.3  # the column is collapsing
+    inner = np.median(w.densities)
+    assert 950 < inner < 1030
+    assert w.report().frame == 5
+    assert w.report().statistics.particles == n
+
+
+def test_world_from_definition_in_code():
+    d = pbf.WorldDef(name="box")
+    d.simulation.domain = ((0, 0, 0), (0.4, 0.4, 0.1))
+    d.simulation.particle_radius = 0.01
+    d.simulation.fluid.viscosity = 0.02
+    d.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (0.1, 0.2, 0.1)))
+    d.solids.append(pbf.SolidDescription.box(((0.3, 0, 0), (0.4, 0.05, 0.1))))
+    d.emitters.append(pbf.EmitterDescription((0.2, 0.35, 0.05), radius=0.02, speed=1.0))
+    assert d.validate() == ""
+    assert d.count_particles() == 5 * 10 * 5
+    w = pbf.World(d)
+    assert w.particle_count == 250 and w.definition.name == "box"
+    assert w.settings.viscosity == 0.02
+    assert len(w.solids) == 1 and "box" in w.solids[0]
+    w.step_frames(3)
+    assert w.particle_count > 250  # the emitter poured
+    assert w.positions.shape == (w.particle_count, 3)
+    assert np.array_equal(w.ids, np.arange(w.particle_count))
+    x = w.positions
+    assert (x >= 0).all() and (x[:, 0] <= 0.4).all() and (x[:, 1] <= 0.4).all()
+
+
+def test_definition_lists_and_conversions():
+    d = pbf.WorldDef(fluid_blocks=[pbf.FluidBlock(box=np.array([[0, 0, 0], [0.1, 0.1, 0.1]]))])
+    assert len(d.fluid_blocks) == 1
+    assert d.fluid_blocks[0].box.max == (0.1, 0.1, 0.1)
+    d.fluid_blocks[0].velocity = [1, 0, 0]  # lists and arrays are points
+    assert d.fluid_blocks[0].velocity == (1.0, 0.0, 0.0)
+    d.simulation.gravity = np.array([0, -3.5, 0])
+    assert d.simulation.gravity == (0.0, -3.5, 0.0)
+    d.simulation.solver.time_step = "fixed"
+    with pytest.raises(pbf.SceneError, match="solver.time_step"):
+        d.simulation.solver.time_step = "sometimes"
+    mesh = pbf.SolidDescription.mesh("bunny.obj", scale=0.5, translation=(1, 0, 0))
+    assert mesh.kind == "mesh" and mesh.transform.scale == (0.5, 0.5, 0.5)
+    assert pbf.Aabb((0, 0, 0), (1, 2, 3)).extent == (1.0, 2.0, 3.0)
+
+
+def test_world_rejects_invalid_definition():
+    d = pbf.WorldDef(name="bad")
+    d.simulation.particle_radius = 0.01
+    d.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (2, 0.1, 0.1)))  # beyond the domain
+    with pytest.raises(pbf.SceneError, match=r"^bad: fluid_blocks\[0\]"):
+        pbf.World(d)
+
+
+def test_device_choice(dam_break):
+    require_device("reference")
+    w = pbf.World.from_scene(dam_break, {"particle_radius": 0.02}, device="reference")
+    assert w.device == "reference"
+
+
+def test_unknown_device_is_refused(dam_break):
+    with pytest.raises(ValueError, match='device: must be cpu or reference, got "gpu"'):
+        pbf.World.from_scene(dam_break, device="gpu")
+
+
+def test_add_particles(small_world):
+    w = small_world
+    n = w.particle_count
+    w.add_particles(np.array([[1.2, 0.8, 0.2], [1.3, 0.8, 0.2]]), [[0, 0, 0], [0.5, 0, 0]])
+    assert w.particle_count == n + 2
+    np.testing.assert_array_equal(w.positions[n:], np.float32([[1.2, 0.8, 0.2], [1.3, 0.8, 0.2]]))
+    assert w.ids[-1] == n + 1
+    w.step_frame()
+    # The new particles fall freely for one frame: y = 0.8 - g t^2 / 2.
+    assert w.positions[n, 1] == pytest.approx(0.8 - 0.5 * 9.81 / 30**2, abs=2e-3)
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        w.add_particles(np.zeros((2, 2)))
+    with pytest.raises(ValueError, match="velocities"):
+        w.add_particles(np.zeros((2, 3)) + 0.5, np.zeros((3, 3)))
