@@ -50,8 +50,6 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     scene.simulation.solver.iterations = args.iterations;
     if (const std::string problem = validate(scene.simulation); !problem.empty())
         throw SceneError(fmt::format("size {}: {}", target, problem));
-    if (const std::size_t available = availableMemoryBytes(); available > 0)
-        checkMemory(scene, available);
     // One fixed substep per frame, CFL 0.4 at the dam break's front speed
     // 2 sqrt(g H): every stepFrame() is one timed solver step.
     const float height = scene.fluidBlocks.front().box.extent().y;

@@ -41,20 +41,6 @@ void printError(const std::string& message) {
     fmt::print(stderr, "pbf: error: {}\n", message);
 }
 
-std::size_t availableMemoryBytes() {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string line;
-    while (std::getline(meminfo, line)) {
-        std::istringstream words(line);
-        std::string key;
-        std::size_t kib = 0;
-        if (words >> key >> kib && key == "MemAvailable:") return kib * 1024;
-    }
-    const long pages = ::sysconf(_SC_AVPHYS_PAGES);
-    const long pageSize = ::sysconf(_SC_PAGESIZE);
-    return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
-}
-
 std::string defaultScenePath(const std::string& fileName) {
     const std::filesystem::path local = std::filesystem::path("scenes") / fileName;
     if (std::filesystem::exists(local)) return local.string();

@@ -23,8 +23,6 @@ class ProgressBar {
 };
 
 void printError(const std::string& message);
-// Bytes of memory the system can still give (MemAvailable), or 0 if unknown.
-std::size_t availableMemoryBytes();
 // Resolves a shipped scene path given relative to the source tree.
 std::string defaultScenePath(const std::string& fileName);
 

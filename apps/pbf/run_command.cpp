@@ -60,8 +60,6 @@ int runScene(const RunArguments& args) {
     if (args.checkpointSeconds >= 0.0)
         scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
     if (args.threads > 0) setThreadCount(args.threads);
-    if (const std::size_t available = availableMemoryBytes(); available > 0)
-        checkMemory(scene, available);
 
     const std::size_t particles = countParticles(scene);
     if (!args.quiet)

@@ -113,6 +113,8 @@ ParticleStore createParticles(const WorldDef& def, const SolidSet* solids = null
 // memory (the bytes per particle the solver needs times the count); throws
 // SceneError naming the fluid blocks.
 void checkMemory(const WorldDef& def, std::size_t availableBytes);
+// Memory the machine can give now (MemAvailable), bytes; 0 when unknown.
+std::size_t availableMemoryBytes();
 std::size_t estimatedBytesPerParticle(const SimulationParams& params);
 
 }  // namespace pbf

@@ -12,6 +12,9 @@ namespace pbf {
 World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     if (const std::string problem = validate(def_); !problem.empty())
         throw SceneError((def_.source.empty() ? def_.name : def_.source) + ": " + problem);
+    // Refused before anything is allocated: a size that does not fit in memory.
+    if (const std::size_t available = availableMemoryBytes(); available > 0)
+        checkMemory(def_, available);
     settings_ = def_.simulation;
     constants_ = SolverConstants::from(settings_);
     solids_ = buildSolids(def_);

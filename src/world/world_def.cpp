@@ -1,9 +1,12 @@
 // Validation of a world definition and what is built from it: the solids and
 // the fluid blocks' particles.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "pbf/scene.hpp"
 #include "pbf/world_def.hpp"
@@ -249,6 +252,20 @@ void checkMemory(const WorldDef& def, std::size_t availableBytes) {
                          std::to_string(static_cast<long long>(needed / (1 << 20))) +
                          " MiB, more than the " + std::to_string(availableBytes >> 20) +
                          " MiB of memory available; use larger particles or smaller blocks");
+}
+
+std::size_t availableMemoryBytes() {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string line;
+    while (std::getline(meminfo, line)) {
+        std::istringstream words(line);
+        std::string key;
+        std::size_t kib = 0;
+        if (words >> key >> kib && key == "MemAvailable:") return kib * 1024;
+    }
+    const long pages = ::sysconf(_SC_AVPHYS_PAGES);
+    const long pageSize = ::sysconf(_SC_PAGESIZE);
+    return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
 }
 
 }  // namespace pbf
