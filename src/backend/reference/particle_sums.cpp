@@ -45,12 +45,12 @@ DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* soli
 }
 
 Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
-                        std::span<const float> lambda, NeighborIndices neighbors, std::size_t i) {
+                        std::span<const float> lambdas, NeighborIndices neighbors, std::size_t i) {
     const Vec3 xi = x[i];
     Vec3 dp{};
     for (const std::uint32_t j : neighbors)
-        dp += positionCorrectionTerm(c, lambda[i], lambda[j], xi - x[j]);
-    dp += boundaryPositionCorrection(c, lambda[i], boundaryTerms(c, solids, xi).gradient);
+        dp += positionCorrectionTerm(c, lambdas[i], lambdas[j], xi - x[j]);
+    dp += boundaryPositionCorrection(c, lambdas[i], boundaryTerms(c, solids, xi).gradient);
     return dp;
 }
 

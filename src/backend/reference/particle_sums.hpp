@@ -30,7 +30,7 @@ DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* soli
 
 // Eq. 12-14: dp_i from the lambdas of particle i and its neighbours.
 Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
-                        std::span<const float> lambda, NeighborIndices neighbors, std::size_t i);
+                        std::span<const float> lambdas, NeighborIndices neighbors, std::size_t i);
 
 // Eq. 17: v_i after XSPH viscosity, from the velocities v and densities rho
 // of the state before XSPH (Jacobi: no neighbour has been updated yet).
