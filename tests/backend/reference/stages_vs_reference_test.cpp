@@ -43,6 +43,8 @@
 //     1.5 2^-12) and one Newton step y (1.5 - 0.5 x y^2): exact-arithmetic
 //     error 1.5 e0^2 + 0.5 |e0|^3 <= 3.4 u, plus three roundings in the step
 //     (y^2 and 0.5 x y^2 near 0.5, 1.5 - that near 1, times y): eps_rs <= 7 u.
+//     (x86 targets: SSE4 / AVX2 rsqrtps, AVX-512 rsqrt14. Highway's estimate
+//     on other instruction sets is coarser; there eps_rs must be re-derived.)
 //     With r^2's gamma_3 (halved by the square root) 1/r has relative error
 //     eps_inv = (1 + eps_rs)(1 + gamma_3) - 1, and r = r^2 / sqrt(r^2) the
 //     same plus one rounding; the reference's sqrt and division are inside
@@ -74,6 +76,7 @@
 #include <cstdio>
 #include <iterator>
 #include <memory>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -501,6 +504,11 @@ struct Case {
     std::size_t count;  // not a multiple of the 1024-particle list blocks
     std::uint32_t compactListSpan;
 };
+
+// Names the case in test listings (ctest) instead of dumping its bytes.
+void PrintTo(const Case& testCase, std::ostream* out) {
+    *out << testCase.name << ", " << testCase.count << " particles";
+}
 
 class SimdVsReference : public ::testing::TestWithParam<Case> {};
 
