@@ -1,12 +1,177 @@
+// One PBF step, Algorithm 1 of Macklin & Mueller 2013, in the stage order of
+// the CPU backend's Solver::step (backend/cpu/solver.cpp):
+//   predict        v += dt g; x* = x + dt v, into the box, out of the solids (l. 1-4)
+//   neighbours     lists on x*, kept for every iteration               (l. 5-7)
+//   iterations     rho_i, lambda_i for all; dp_i for all; x* += dp      (l. 8-19)
+//   velocity       v = (x* - x) / dt                                    (l. 21)
+//   post-process   XSPH viscosity and vorticity confinement             (l. 22)
+//   wall response  restitution and friction on the walls and solids
+//   commit         x = x*                                               (l. 23)
+// Each stage is a loop over all particles that writes only entry i and
+// reads the previous stage's arrays (Jacobi), so the result does not depend
+// on the order of the particles within a loop.
 #include "backend/reference/reference_backend.hpp"
 
-#include <stdexcept>
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "backend/reference/equations.hpp"
+#include "backend/reference/particle_sums.hpp"
+#include "core/boundary.hpp"
 
 namespace pbf {
+namespace {
 
-// Placeholder until the scalar reference backend lands (same series of commits).
-std::unique_ptr<Backend> makeReferenceBackend(const SimulationParams&) {
-    throw std::invalid_argument("device: the reference backend is not built yet");
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+ReferenceBackend::ReferenceBackend(const SimulationParams& params)
+    : grid_(params.domain, params.kernelRadius()) {}
+
+void ReferenceBackend::load() {
+    const std::size_t n = store_.size();
+    position_.resize(n);
+    predicted_.resize(n);
+    corrected_.resize(n);
+    velocity_.resize(n);
+    postVelocity_.resize(n);
+    density_.resize(n);
+    lambda_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        position_[i] = store_.position.get(i);
+        velocity_[i] = store_.velocity.get(i);
+    }
+}
+
+void ReferenceBackend::commit() {
+    for (std::size_t i = 0; i < store_.size(); ++i) {
+        store_.position.set(i, position_[i]);
+        store_.predicted.set(i, predicted_[i]);
+        store_.velocity.set(i, velocity_[i]);
+        store_.density[i] = density_[i];
+    }
+}
+
+void ReferenceBackend::step(const SolverContext& context, float dt) {
+    const SimulationParams& params = context.params;
+    const SolverConstants& c = context.constants;
+    const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
+    const Aabb& box = c.collisionBox;
+    const std::size_t n = store_.size();
+    const auto stepStart = Clock::now();
+    times_ = {};
+    load();
+
+    // Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the
+    // sweep against the solids starts from x (no step tunnels through them).
+    auto t = Clock::now();
+    for (std::size_t i = 0; i < n; ++i) {
+        velocity_[i] += dt * params.gravity;
+        predicted_[i] = boundary::clampToBox(box, position_[i] + dt * velocity_[i]);
+        if (solids)
+            predicted_[i] =
+                boundary::resolveSolidCollision(c, *solids, position_[i], predicted_[i]);
+    }
+    times_.predict = millisecondsSince(t);
+
+    // Alg. 1 l. 5-7: neighbours of x*, found once per step.
+    t = Clock::now();
+    grid_.build(predicted_);
+    times_.neighborSearch = times_.neighborLists = millisecondsSince(t);
+
+    // Alg. 1 l. 8-19: Jacobi iterations. Every lambda is computed from the
+    // same x*, every dp from the same lambdas, then all x* move at once.
+    t = Clock::now();
+    for (int iteration = 0; iteration < params.solver.iterations; ++iteration) {
+        auto part = Clock::now();
+        for (std::size_t i = 0; i < n; ++i) {
+            const reference::DensityAndLambda r =
+                reference::densityAndLambda(c, solids, predicted_, grid_.neighbors(i), i);
+            density_[i] = r.density;
+            lambda_[i] = r.lambda;
+        }
+        times_.lambda += millisecondsSince(part);
+        part = Clock::now();
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec3 dp = reference::positionCorrection(c, solids, predicted_, lambda_,
+                                                          grid_.neighbors(i), i);
+            // Alg. 1 l. 16-18: collision response, the box and the solids.
+            Vec3 moved = boundary::clampToBox(box, predicted_[i] + dp);
+            if (solids) moved = boundary::resolveSolidCollision(c, *solids, position_[i], moved);
+            corrected_[i] = moved;
+        }
+        predicted_.swap(corrected_);
+        times_.deltaP += millisecondsSince(part);
+        times_.iterations += 1.0;
+    }
+    times_.solve = millisecondsSince(t);
+
+    t = Clock::now();
+    // Alg. 1 l. 21: the velocity the positions' change implies.
+    for (std::size_t i = 0; i < n; ++i)
+        velocity_[i] = reference::velocityFromPositions(position_[i], predicted_[i], dt);
+    // Alg. 1 l. 22: XSPH and vorticity both read the velocities above and
+    // the last iteration's densities (Jacobi); confinement adds to XSPH's result.
+    const FluidParams& fluid = params.fluid;
+    const bool withVorticity = fluid.vorticity > 0.0f;
+    if (fluid.viscosity > 0.0f || withVorticity) {
+        if (withVorticity) vorticity_.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const reference::NeighborIndices nbrs = grid_.neighbors(i);
+            postVelocity_[i] = reference::xsphVelocity(c, fluid.viscosity, predicted_, velocity_,
+                                                       density_, nbrs, i);
+            if (withVorticity)
+                vorticity_[i] = reference::vorticity(c, predicted_, velocity_, density_, nbrs, i);
+        }
+        if (withVorticity) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const Vec3 eta = reference::vorticityGradient(c, predicted_, vorticity_, density_,
+                                                              grid_.neighbors(i), i);
+                postVelocity_[i] +=
+                    dt * reference::vorticityConfinement(c, fluid.vorticity, eta, vorticity_[i]);
+            }
+        }
+        velocity_.swap(postVelocity_);
+    }
+    // Restitution and friction on the walls and solids, then x = x* (l. 23).
+    const SolverParams& s = params.solver;
+    for (std::size_t i = 0; i < n; ++i) {
+        Vec3 v =
+            boundary::respondToWalls(box, s.restitution, s.friction, predicted_[i], velocity_[i]);
+        if (solids)
+            v = boundary::respondToSolids(*solids, c.particleRadius, s.restitution, s.friction,
+                                          predicted_[i], v);
+        velocity_[i] = v;
+        position_[i] = predicted_[i];
+    }
+    commit();
+    times_.postProcess = millisecondsSince(t);
+    times_.total = millisecondsSince(stepStart);
+}
+
+std::size_t ReferenceBackend::bufferBytes() const {
+    std::size_t vectors = position_.capacity() + predicted_.capacity() + corrected_.capacity() +
+                          velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity();
+    return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity());
+}
+
+BackendDiagnostics ReferenceBackend::diagnostics() const {
+    BackendDiagnostics d;
+    d.memoryBytes = store_.memoryBytes() + bufferBytes() + grid_.memoryBytes();
+    d.neighborsPerParticle =
+        double(grid_.totalNeighborCount()) / double(std::max<std::size_t>(1, store_.size()));
+    d.compactListShare = std::numeric_limits<double>::quiet_NaN();  // no compact lists here
+    return d;
+}
+
+std::unique_ptr<Backend> makeReferenceBackend(const SimulationParams& params) {
+    return std::make_unique<ReferenceBackend>(params);
 }
 
 }  // namespace pbf

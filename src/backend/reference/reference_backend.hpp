@@ -1,13 +1,46 @@
 // The reference backend (private header): plain scalar C++, one short
-// function per equation of Macklin & Mueller 2013 (equations.hpp), brute
-// clarity over speed. It is the oracle the SIMD backend is tested against.
+// function per equation of Macklin & Mueller 2013 (equations.hpp), clarity
+// over speed. It is the oracle the SIMD backend is tested against
+// (tests/backend/reference/) and the readable version of Algorithm 1.
+//
+// Same stages in the same order as the CPU backend (backend/cpu/solver.cpp),
+// with the same boundary terms (core/boundary.hpp), but serial, without
+// reordering the particles, with its own neighbour search
+// (neighbor_grid.hpp) and the particles as arrays of Vec3.
 #pragma once
 
 #include <memory>
+#include <vector>
 
-#include "pbf/backend.hpp"
+#include "backend/host_backend.hpp"
+#include "backend/reference/neighbor_grid.hpp"
 
 namespace pbf {
+
+class ReferenceBackend final : public HostBackend {
+  public:
+    explicit ReferenceBackend(const SimulationParams& params);
+
+    BackendKind kind() const override { return BackendKind::Reference; }
+    void step(const SolverContext& context, float dt) override;
+    BackendDiagnostics diagnostics() const override;
+
+  private:
+    void load();    // store_ -> the Vec3 arrays
+    void commit();  // the Vec3 arrays -> store_
+    std::size_t bufferBytes() const;
+
+    reference::NeighborGrid grid_;
+    // Working copies of the state, one Vec3 per particle, in store_'s order.
+    std::vector<Vec3> position_;   // x, the start of the step
+    std::vector<Vec3> predicted_;  // x*
+    std::vector<Vec3> corrected_;  // x* + dp of the current iteration (Jacobi)
+    std::vector<Vec3> velocity_;
+    std::vector<Vec3> postVelocity_;  // v after XSPH and confinement (Jacobi)
+    std::vector<Vec3> vorticity_;     // omega, eq. 15
+    std::vector<float> density_;
+    std::vector<float> lambda_;
+};
 
 std::unique_ptr<Backend> makeReferenceBackend(const SimulationParams& params);
 
