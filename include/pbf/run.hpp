@@ -52,6 +52,10 @@ struct RunSummary {
     std::size_t particles = 0;
     double simulatedSeconds = 0.0;
     double wallSeconds = 0.0;
+    // Wall time of this session spent writing the per-frame outputs (frame
+    // files, stats rows, extra per-frame files) and the checkpoints.
+    double outputSeconds = 0.0;
+    double checkpointSeconds = 0.0;
     long long substeps = 0;
     double particleStepsPerSecond = 0.0;
     double maxDensityError = 0.0;      // over all frames

@@ -23,6 +23,8 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, Backend
     j["particles"] = s.particles;
     j["simulated_seconds"] = s.simulatedSeconds;
     j["wall_seconds"] = s.wallSeconds;
+    j["output_seconds"] = s.outputSeconds;
+    j["checkpoint_seconds"] = s.checkpointSeconds;
     j["substeps"] = s.substeps;
     j["particle_steps_per_second"] = s.particleStepsPerSecond;
     j["max_density_error"] = s.maxDensityError;
@@ -44,6 +46,19 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 constexpr double kMiB = 1024.0 * 1024.0;
+
+// Adds the wall time of its scope to `total` (seconds).
+class OutputTimer {
+  public:
+    explicit OutputTimer(double& total) : total_(total) {}
+    ~OutputTimer() { total_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+    OutputTimer(const OutputTimer&) = delete;
+    OutputTimer& operator=(const OutputTimer&) = delete;
+
+  private:
+    double& total_;
+    Clock::time_point start_ = Clock::now();
+};
 
 // Bytes of one PLY frame (header and 32 bytes per particle).
 std::uintmax_t plyBytes(std::size_t particles) {
@@ -144,6 +159,7 @@ void RunDriver::startStats() {
 }
 
 void RunDriver::record(const FrameReport& report) {
+    const OutputTimer timer(summary_.outputSeconds);
     checkFreeSpace();
     if (output_.writeParticles)
         writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
@@ -163,6 +179,7 @@ void RunDriver::record(const FrameReport& report) {
 
 // The state is captured only here, when a checkpoint is due (not every frame).
 void RunDriver::saveCheckpoint() {
+    const OutputTimer timer(summary_.checkpointSeconds);
     Checkpoint checkpoint = captureCheckpoint(world_, scene_.fingerprint);
     checkpoint.totals = totals_;
     checkpoint.totals.wallSeconds = wallSeconds();
