@@ -15,7 +15,7 @@ struct MeshArguments {
     surface::MeshJob job;
     std::string input;
     std::string output;
-    std::string formats = "obj,vdb";
+    std::string formats = "ply,vdb";
     std::string frames;
     bool quiet = false;
 };
@@ -49,8 +49,14 @@ void addMeshOptions(CLI::App& command, surface::MeshJob& job, std::string& forma
         ->capture_default_str();
     command
         .add_option("--format", formats,
-                    "Outputs, comma-separated: obj, ply (meshes), vdb (level set)")
+                    "Outputs, comma-separated: ply, obj (meshes with normals), vtk (.vtp meshes + "
+                    "surface.pvd for ParaView), vdb (level set)")
         ->capture_default_str();
+    command
+        .add_option("--fps", job.fps,
+                    "Frames per simulated second for the times in surface.pvd (default: "
+                    "summary.json of `pbf run`)")
+        ->check(CLI::PositiveNumber);
     command.add_option("--frames", frames,
                        "Frames to mesh as FIRST[:END[:STEP]], e.g. 0:100:2 (default: all)");
 }
@@ -84,7 +90,7 @@ std::function<int()> addMeshCommand(CLI::App& app) {
     auto args = std::make_shared<MeshArguments>();
     CLI::App* mesh = app.add_subcommand("mesh",
                                         "Turn particle frames (frame_NNNNN.ply of `pbf run`) into "
-                                        "water surface meshes (OBJ/PLY) and "
+                                        "water surface meshes (PLY/OBJ/VTK) and "
                                         "level sets (.vdb); see docs/surfaces.md");
     mesh->add_option("directory", args->input, "Directory of particle frames written by `pbf run`")
         ->required();

@@ -9,7 +9,7 @@
 namespace pbf::cli {
 
 // Registers the mesh options (radius, voxel size, smoothing, ...) on `command`
-// writing into `job`, `formats` ("obj,vdb") and `frames` ("0:100:2").
+// writing into `job`, `formats` ("ply,vdb") and `frames` ("0:100:2").
 void addMeshOptions(CLI::App& command, surface::MeshJob& job, std::string& formats,
                     std::string& frames);
 // Returns the exit code.

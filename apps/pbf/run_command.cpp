@@ -29,6 +29,7 @@ struct RunArguments {
     bool noParticles = false;
     bool quiet = false;
     bool vdbPoints = false;
+    bool vtk = false;
     bool mesh = false;
     bool resume = false;
     std::string device = "cpu";
@@ -53,6 +54,7 @@ int runScene(const RunArguments& args) {
     if (!args.out.empty()) scene.output.directory = args.out;
     if (args.noParticles) scene.output.writeParticles = false;
     if (args.vdbPoints) scene.output.writeVdbPoints = true;
+    if (args.vtk) scene.output.writeVtk = true;
     if (args.mesh && !scene.output.writeParticles)
         throw SceneError(
             "--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
@@ -142,6 +144,8 @@ int runScene(const RunArguments& args) {
         surface::MeshJob job;
         job.input = scene.output.directory;
         job.params.particleRadius = scene.simulation.particleRadius;
+        job.fps = scene.fps;
+        job.formats.vtk = scene.output.writeVtk;  // surfaces for ParaView beside the particles
         if (args.threads > 0) job.threads = args.threads;
         return runMeshJob(job, args.quiet);
     }
@@ -169,9 +173,12 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--no-particles", args->noParticles, "Do not write PLY frames (stats only)");
     run->add_flag("--vdb-points", args->vdbPoints,
                   "Also write OpenVDB point caches frame_NNNNN.vdb (as output.vdb_points=true)");
+    run->add_flag("--vtk", args->vtk,
+                  "Also write VTK XML particles frame_NNNNN.vtu and particles.pvd for ParaView "
+                  "(as output.vtk=true)");
     run->add_flag("--mesh", args->mesh,
-                  "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` "
-                  "has the options)");
+                  "Afterwards mesh the frames into DIR/surface (PLY + level-set .vdb, with --vtk "
+                  "also .vtp; `pbf mesh` has the options)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
     run->add_option("--device", args->device,
                     "Backend: cpu (SIMD, the default) or reference (scalar, slow: for checking)")

@@ -26,6 +26,9 @@ struct OutputParams {
     std::string directory;        // default "out/<scene name>"
     bool writeParticles = true;   // binary PLY per frame
     bool writeVdbPoints = false;  // OpenVDB points per frame (frame_NNNNN.vdb, pbf_surface)
+    // VTK XML particles per frame (frame_NNNNN.vtu) and particles.pvd with
+    // the frame times, for ParaView (include/pbf/vtk.hpp).
+    bool writeVtk = false;
     // Checkpoints for --resume (docs/reliability.md): one is written when
     // `checkpointEvery` frames or `checkpointSeconds` of wall time have passed
     // since the last one (0 turns that trigger off), and at the end of a run.

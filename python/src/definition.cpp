@@ -316,13 +316,15 @@ void bindScene(py::module_& m) {
         .def_readwrite("directory", &OutputParams::directory)
         .def_readwrite("particles", &OutputParams::writeParticles, "binary PLY per frame")
         .def_readwrite("vdb_points", &OutputParams::writeVdbPoints)
+        .def_readwrite("vtk", &OutputParams::writeVtk,
+                       "VTK XML particles per frame (frame_NNNNN.vtu) and particles.pvd")
         .def_readwrite("checkpoint_every", &OutputParams::checkpointEvery, "frames, 0: off")
         .def_property("checkpoint_seconds", floatGetter(&OutputParams::checkpointSeconds),
                       floatSetter(&OutputParams::checkpointSeconds), "wall-clock seconds, 0: off")
         .def_readwrite("checkpoints", &OutputParams::writeCheckpoints)
         .def("__repr__", [](const py::object& self) {
             return reprOf(self, "OutputParams",
-                          {"frames", "directory", "particles", "checkpoint_every",
+                          {"frames", "directory", "particles", "vtk", "checkpoint_every",
                            "checkpoint_seconds", "checkpoints"});
         });
 

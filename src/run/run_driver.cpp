@@ -9,6 +9,7 @@
 #include "pbf/io.hpp"
 #include "pbf/state_guard.hpp"
 #include "pbf/version.hpp"
+#include "pbf/vtk.hpp"
 
 namespace pbf::detail {
 namespace {
@@ -30,6 +31,7 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, Backend
     j["max_density_error"] = s.maxDensityError;
     j["average_density_error"] = s.averageDensityError;
     j["particle_radius"] = scene.simulation.particleRadius;  // read by `pbf mesh`
+    j["fps"] = scene.fps;  // frame k is at k / fps: `pbf mesh` and the Blender add-on read it
     j["max_escaped"] = s.maxEscaped;
     j["max_inside_solid"] = s.maxInsideSolid;
     j["skipped_in_solids"] = s.skippedInSolids;
@@ -63,6 +65,24 @@ class OutputTimer {
 // Bytes of one PLY frame (header and 32 bytes per particle).
 std::uintmax_t plyBytes(std::size_t particles) {
     return 512 + std::uintmax_t{particles} * 32;
+}
+
+// Bytes of one .vtu frame: 32 per particle as in the PLY, a vertex cell
+// (Int64 connectivity and offset at most, a type byte) and the header.
+std::uintmax_t vtuBytes(std::size_t particles) {
+    return 2048 + std::uintmax_t{particles} * (32 + 17);
+}
+
+// Bytes of the per-frame files the scene's output asks for.
+std::uintmax_t frameBytes(const OutputParams& output, std::size_t particles) {
+    return (output.writeParticles ? plyBytes(particles) : 0) +
+           (output.writeVtk ? vtuBytes(particles) + 128 : 0);  // + a .pvd entry
+}
+
+constexpr const char* kCollectionName = "particles.pvd";
+
+fs::path vtuFileName(int frame) {
+    return frameFileName(frame).replace_extension(".vtu");
 }
 
 }  // namespace
@@ -111,6 +131,7 @@ void RunDriver::resumeFromCheckpoint() {
     // stats.csv may hold rows of frames computed after the checkpoint by the
     // killed run: put it back to the checkpoint's rows; they are recomputed.
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
+    if (output_.writeVtk) restoreCollection();
     notice(world_.frame() >= output_.frames
                ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}",
                              file.string(), world_.frame(), output_.frames)
@@ -124,7 +145,7 @@ void RunDriver::warnIfDiskTooSmall() const {
     const int remaining = output_.frames - world_.frame();
     if (ec || remaining <= 0) return;
     const std::size_t n = world_.particleCount();
-    const double needed = double(output_.writeParticles ? plyBytes(n) : 0) * remaining +
+    const double needed = double(frameBytes(output_, n)) * remaining +
                           double(checkpointBytes(n, totals_.statsCsv.size()));
     if (double(space.available) < needed)
         notice(fmt::format(
@@ -141,7 +162,7 @@ void RunDriver::checkFreeSpace() const {
     const fs::space_info space = fs::space(dir_, ec);
     if (ec) return;  // unknown (some network file systems): the writes report failures
     const std::size_t n = world_.particleCount();
-    const std::uintmax_t frame = (output_.writeParticles ? plyBytes(n) : 0) + 512;  // + a stats row
+    const std::uintmax_t frame = frameBytes(output_, n) + 512;  // + a stats row
     const std::uintmax_t needed = frame + checkpointBytes(n, totals_.statsCsv.size());
     if (space.available < needed + options_.reserveBytes)
         throw IoError(
@@ -163,6 +184,7 @@ void RunDriver::record(const FrameReport& report) {
     checkFreeSpace();
     if (output_.writeParticles)
         writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
+    if (output_.writeVtk) writeVtkFrame(report.frame);
     if (options_.writeFrame) options_.writeFrame(report.frame, world_);
     const std::string row = statsCsvRow(report) + "\n";
     appendToFile(dir_ / "stats.csv", row);
@@ -175,6 +197,31 @@ void RunDriver::record(const FrameReport& report) {
     totals_.substeps += report.substeps;
     totals_.solverMilliseconds += report.stageMs.total;
     if (options_.onFrame) options_.onFrame(report);
+}
+
+// The .vtu file, then its entry in particles.pvd: the collection never lists
+// a file that is not whole. Frame 0 starts a new collection.
+void RunDriver::writeVtkFrame(int frame) {
+    const double time = frame / double(scene_.fps);
+    vtk::writeParticlesVtu(dir_ / vtuFileName(frame), world_.particles(), time);
+    const vtk::CollectionEntry entry{time, vtuFileName(frame).string()};
+    if (frame == 0)
+        vtk::writeCollection(dir_ / kCollectionName, {entry});
+    else
+        vtk::appendToCollection(dir_ / kCollectionName, entry);
+}
+
+// On resume the collection may list frames the killed run wrote after its
+// checkpoint; they are simulated again and appended again, so the list is
+// rewritten to the frames up to the checkpoint (those whose .vtu exists:
+// the run may have been started without VTK output).
+void RunDriver::restoreCollection() const {
+    std::vector<vtk::CollectionEntry> entries;
+    std::error_code ec;
+    for (int frame = 0; frame <= world_.frame(); ++frame)
+        if (fs::exists(dir_ / vtuFileName(frame), ec))
+            entries.push_back({frame / double(scene_.fps), vtuFileName(frame).string()});
+    vtk::writeCollection(dir_ / kCollectionName, entries);
 }
 
 // The state is captured only here, when a checkpoint is due (not every frame).

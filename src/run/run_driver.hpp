@@ -31,6 +31,8 @@ class RunDriver {
     void checkFreeSpace() const;
     void startStats();
     void record(const FrameReport& report);
+    void writeVtkFrame(int frame);
+    void restoreCollection() const;
     bool checkpointDue() const;
     void saveCheckpoint();
     void fail(StepError error);

@@ -1,6 +1,7 @@
 // Particles -> level set -> mesh with OpenVDB (steps in surface.hpp).
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/LevelSetFilter.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
 #include <openvdb/tools/PointIndexGrid.h>
@@ -184,6 +185,41 @@ LevelSet buildLevelSet(std::span<const Vec3> positions, const SurfaceParams& par
     return result;
 }
 
+namespace {
+
+// Unit normals at the mesh vertices from the level set's gradient (central
+// differences one voxel either side, trilinear samples): the normal of the
+// smooth surface the mesh approximates, so a smooth-shaded mesh looks as
+// smooth as the level set, not faceted like averaged triangle normals.
+std::vector<Vec3> levelSetNormals(const openvdb::FloatGrid& grid,
+                                  const std::vector<openvdb::Vec3s>& points) {
+    std::vector<Vec3> normals(points.size());
+    const double d = grid.voxelSize()[0];
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const auto& range) {
+        const openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor,
+                                          openvdb::tools::BoxSampler>
+            phi(grid.getConstAccessor(), grid.transform());
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const openvdb::Vec3d p = points[i];
+            const openvdb::Vec3d g(phi.wsSample(p + openvdb::Vec3d(d, 0, 0)) -
+                                       phi.wsSample(p - openvdb::Vec3d(d, 0, 0)),
+                                   phi.wsSample(p + openvdb::Vec3d(0, d, 0)) -
+                                       phi.wsSample(p - openvdb::Vec3d(0, d, 0)),
+                                   phi.wsSample(p + openvdb::Vec3d(0, 0, d)) -
+                                       phi.wsSample(p - openvdb::Vec3d(0, 0, d)));
+            const double length = g.length();
+            // A zero gradient (a vertex where two sheets meet) has no normal;
+            // +y keeps the file valid, and it happens on too few vertices to show.
+            normals[i] = length > 0.0 ? Vec3{float(g.x() / length), float(g.y() / length),
+                                             float(g.z() / length)}
+                                      : Vec3{0.0f, 1.0f, 0.0f};
+        }
+    });
+    return normals;
+}
+
+}  // namespace
+
 TriangleMesh extractMesh(const LevelSet& levelSet, float adaptivity) {
     TriangleMesh mesh;
     const openvdb::FloatGrid::Ptr& grid = levelSet.impl().grid;
@@ -195,6 +231,7 @@ TriangleMesh extractMesh(const LevelSet& levelSet, float adaptivity) {
 
     mesh.vertices.reserve(points.size());
     for (const openvdb::Vec3s& p : points) mesh.vertices.push_back({p.x(), p.y(), p.z()});
+    mesh.normals = levelSetNormals(*grid, points);
     mesh.triangles.reserve(triangles.size() + 2 * quads.size());
     // OpenVDB orders polygons clockwise seen from outside (Houdini's
     // convention); reverse them to the counter-clockwise order OBJ/PLY

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "pbf/io.hpp"
+#include "pbf/vtk.hpp"
 
 namespace pbf::surface {
 namespace {
@@ -106,15 +107,22 @@ void writeMeshObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
             out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
             buffer.clear();
         };
-        for (const Vec3& v : mesh.vertices) {
-            const int n = std::snprintf(line, sizeof line, "v %.7g %.7g %.7g\n", double(v.x),
-                                        double(v.y), double(v.z));
-            buffer.append(line, static_cast<std::size_t>(n));
-            if (buffer.size() > (1u << 20) - 128) flush();
-        }
+        auto vectors = [&](const char* tag, const std::vector<Vec3>& vs) {
+            for (const Vec3& v : vs) {
+                const int n = std::snprintf(line, sizeof line, "%s %.7g %.7g %.7g\n", tag,
+                                            double(v.x), double(v.y), double(v.z));
+                buffer.append(line, static_cast<std::size_t>(n));
+                if (buffer.size() > (1u << 20) - 128) flush();
+            }
+        };
+        vectors("v", mesh.vertices);
+        vectors("vn", mesh.normals);
+        const bool normals = !mesh.normals.empty();
         for (const auto& t : mesh.triangles) {
-            const int n =
-                std::snprintf(line, sizeof line, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+            const unsigned a = t[0] + 1, b = t[1] + 1, c = t[2] + 1;
+            const int n = normals ? std::snprintf(line, sizeof line, "f %u//%u %u//%u %u//%u\n", a,
+                                                  a, b, b, c, c)
+                                  : std::snprintf(line, sizeof line, "f %u %u %u\n", a, b, c);
             buffer.append(line, static_cast<std::size_t>(n));
             if (buffer.size() > (1u << 20) - 128) flush();
         }
@@ -123,15 +131,31 @@ void writeMeshObj(const std::filesystem::path& path, const TriangleMesh& mesh) {
 }
 
 void writeMeshPly(const std::filesystem::path& path, const TriangleMesh& mesh) {
+    const bool normals = !mesh.normals.empty();
+    if (normals && mesh.normals.size() != mesh.vertices.size())
+        throw IoError(path.string() + ": the mesh has " + std::to_string(mesh.normals.size()) +
+                      " normals for " + std::to_string(mesh.vertices.size()) + " vertices");
     writeFileAtomically(path, [&](std::ostream& out) {
         out << "ply\nformat binary_little_endian 1.0\ncomment water surface written by pbf\n"
             << "element vertex " << mesh.vertices.size() << "\n"
             << "property float x\nproperty float y\nproperty float z\n"
+            << (normals ? "property float nx\nproperty float ny\nproperty float nz\n" : "")
             << "element face " << mesh.triangles.size() << "\n"
             << "property list uchar uint vertex_indices\nend_header\n";
         static_assert(sizeof(Vec3) == 12);
-        out.write(reinterpret_cast<const char*>(mesh.vertices.data()),
-                  static_cast<std::streamsize>(mesh.vertices.size() * sizeof(Vec3)));
+        if (normals) {  // x y z nx ny nz per vertex
+            std::vector<Vec3> interleaved;
+            interleaved.reserve(2 * mesh.vertices.size());
+            for (std::size_t k = 0; k < mesh.vertices.size(); ++k) {
+                interleaved.push_back(mesh.vertices[k]);
+                interleaved.push_back(mesh.normals[k]);
+            }
+            out.write(reinterpret_cast<const char*>(interleaved.data()),
+                      static_cast<std::streamsize>(interleaved.size() * sizeof(Vec3)));
+        } else {
+            out.write(reinterpret_cast<const char*>(mesh.vertices.data()),
+                      static_cast<std::streamsize>(mesh.vertices.size() * sizeof(Vec3)));
+        }
         std::vector<char> faces(mesh.triangles.size() * 13);
         for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
             faces[13 * k] = 3;
@@ -139,6 +163,10 @@ void writeMeshPly(const std::filesystem::path& path, const TriangleMesh& mesh) {
         }
         out.write(faces.data(), static_cast<std::streamsize>(faces.size()));
     });
+}
+
+void writeMeshVtp(const std::filesystem::path& path, const TriangleMesh& mesh, double time) {
+    vtk::writeTrianglesVtp(path, mesh.vertices, mesh.normals, mesh.triangles, time);
 }
 
 }  // namespace pbf::surface

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "pbf/io.hpp"
+#include "pbf/vtk.hpp"
 
 namespace pbf::surface {
 namespace {
@@ -32,9 +33,9 @@ std::uintmax_t sizeOf(const fs::path& path) {
     return ec ? 0 : size;
 }
 
-// N of "frame_N.ply" (N at least 5 digits, as `pbf run` names them), else -1.
-int frameNumber(std::string_view name) {
-    constexpr std::string_view prefix = "frame_", suffix = ".ply";
+// N of "<prefix>N<suffix>" (N at least 5 digits, as pbf names frames), else -1.
+int frameNumber(std::string_view name, std::string_view prefix = "frame_",
+                std::string_view suffix = ".ply") {
     if (name.size() < prefix.size() + 5 + suffix.size() || !name.starts_with(prefix) ||
         !name.ends_with(suffix))
         return -1;
@@ -108,17 +109,50 @@ std::vector<FrameFile> listParticleFrames(const fs::path& directory, const Frame
     return frames;
 }
 
-float radiusFromSummary(const fs::path& directory) {
+namespace {
+
+// A positive number `field` of `directory`/summary.json, 0 if there is no
+// such file or field.
+float positiveFromSummary(const fs::path& directory, const char* field) {
     const fs::path file = directory / "summary.json";
     std::ifstream in(file);
     if (!in) return 0.0f;
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
     if (j.is_discarded() || !j.is_object()) throw IoError(file.string() + ": not valid JSON");
-    const auto it = j.find("particle_radius");
+    const auto it = j.find(field);
     if (it == j.end()) return 0.0f;
     if (!it->is_number() || !(it->get<double>() > 0.0))
-        throw IoError(file.string() + ": particle_radius: must be a positive number");
+        throw IoError(file.string() + ": " + field + ": must be a positive number");
     return it->get<float>();
+}
+
+// surface.pvd lists every surface_NNNNN.vtp of the output directory (also
+// those of earlier jobs on other frame ranges), in frame order, frame k at
+// k / fps. Rewritten whole after each frame: meshing a frame takes far
+// longer than listing a directory.
+void writeSurfaceCollection(const fs::path& output, double fps) {
+    std::vector<std::pair<int, std::string>> files;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(output, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (const int frame = frameNumber(name, "surface_", ".vtp"); frame >= 0)
+            files.emplace_back(frame, name);
+    }
+    if (ec) throw IoError(output.string() + ": cannot list directory: " + ec.message());
+    std::sort(files.begin(), files.end());
+    std::vector<vtk::CollectionEntry> entries;
+    for (const auto& [frame, name] : files) entries.push_back({frame / fps, name});
+    vtk::writeCollection(output / "surface.pvd", entries);
+}
+
+}  // namespace
+
+float radiusFromSummary(const fs::path& directory) {
+    return positiveFromSummary(directory, "particle_radius");
+}
+
+float fpsFromSummary(const fs::path& directory) {
+    return positiveFromSummary(directory, "fps");
 }
 
 MeshFormats parseMeshFormats(std::string_view text) {
@@ -131,11 +165,13 @@ MeshFormats parseMeshFormats(std::string_view text) {
             f.obj = true;
         else if (word == "ply")
             f.ply = true;
+        else if (word == "vtk")
+            f.vtk = true;
         else if (word == "vdb")
             f.vdb = true;
         else
             throw std::invalid_argument(
-                fmt::format("format: unknown format \"{}\" (expected obj, ply, vdb)", word));
+                fmt::format("format: unknown format \"{}\" (expected ply, obj, vtk, vdb)", word));
         start = comma + 1;
     }
     return f;
@@ -174,6 +210,14 @@ MeshSummary meshFrames(const MeshJob& job) {
     summary.particleRadius = params.particleRadius;
     if (const std::string problem = validate(params); !problem.empty())
         throw std::invalid_argument(problem);
+    double fps = job.fps;
+    if (job.formats.vtk && !(fps > 0.0)) {
+        fps = fpsFromSummary(job.input);
+        if (!(fps > 0.0))
+            throw IoError((job.input / "summary.json").string() +
+                          ": no fps (written by `pbf run` since it writes VTK files); the frame "
+                          "times of surface.pvd need it: pass --fps");
+    }
 
     const fs::path output = job.output.empty() ? job.input / "surface" : job.output;
     std::error_code ec;
@@ -193,17 +237,22 @@ MeshSummary meshFrames(const MeshJob& job) {
         report.index = static_cast<int>(k);
         report.particles = build.particles;
         report.sprayDropped = build.sprayDropped;
-        if (job.formats.obj || job.formats.ply) {
+        if (job.formats.obj || job.formats.ply || job.formats.vtk) {
             const TriangleMesh mesh = extractMesh(levelSet, params.adaptivity);
             report.vertices = mesh.vertices.size();
             report.triangles = mesh.triangles.size();
+            if (job.formats.ply) {
+                writeMeshPly(output / surfaceFileName(f.frame, "ply"), mesh);
+                report.bytesWritten += sizeOf(output / surfaceFileName(f.frame, "ply"));
+            }
             if (job.formats.obj) {
                 writeMeshObj(output / surfaceFileName(f.frame, "obj"), mesh);
                 report.bytesWritten += sizeOf(output / surfaceFileName(f.frame, "obj"));
             }
-            if (job.formats.ply) {
-                writeMeshPly(output / surfaceFileName(f.frame, "ply"), mesh);
-                report.bytesWritten += sizeOf(output / surfaceFileName(f.frame, "ply"));
+            if (job.formats.vtk) {
+                writeMeshVtp(output / surfaceFileName(f.frame, "vtp"), mesh, f.frame / fps);
+                report.bytesWritten += sizeOf(output / surfaceFileName(f.frame, "vtp"));
+                writeSurfaceCollection(output, fps);
             }
         }
         if (job.formats.vdb) {

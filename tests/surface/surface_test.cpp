@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -86,6 +87,18 @@ TEST(Surface, BallMeshesToAClosedSphereOfTheFluidVolume) {
     }
     EXPECT_LT(std::sqrt(squares / double(mesh.vertices.size())), 0.5 * kR);
     EXPECT_LT(worst, 1.5 * kR);
+    // Vertex normals from the level set: unit, pointing out, close to the
+    // sphere's radial direction (the staircase of the lattice tilts a few).
+    ASSERT_EQ(mesh.normals.size(), mesh.vertices.size());
+    double cosines = 0.0, leastCosine = 1.0;
+    for (std::size_t k = 0; k < mesh.vertices.size(); ++k) {
+        EXPECT_NEAR(length(mesh.normals[k]), 1.0f, 1e-5f);
+        const double c = dot(mesh.normals[k], mesh.vertices[k]) / length(mesh.vertices[k]);
+        cosines += c;
+        leastCosine = std::min(leastCosine, c);
+    }
+    EXPECT_GT(cosines / double(mesh.vertices.size()), 0.99);
+    EXPECT_GT(leastCosine, 0.8);
 }
 
 TEST(Surface, RestingSlabHasAFlatTopAtTheFluidHeight) {
@@ -180,20 +193,38 @@ TEST(SurfaceFiles, ObjAndPlyHoldTheMesh) {
     writeMeshObj(dir / "m.obj", mesh);
     writeMeshPly(dir / "m.ply", mesh);
     std::ifstream obj(dir / "m.obj");
-    std::size_t v = 0, f = 0;
-    std::string line;
+    std::size_t v = 0, vn = 0, f = 0;
+    std::string line, firstFace;
     while (std::getline(obj, line)) {
         v += line.rfind("v ", 0) == 0;
-        f += line.rfind("f ", 0) == 0;
+        vn += line.rfind("vn ", 0) == 0;
+        if (line.rfind("f ", 0) == 0 && f++ == 0) firstFace = line;
     }
     EXPECT_EQ(v, mesh.vertices.size());
+    EXPECT_EQ(vn, mesh.vertices.size());
     EXPECT_EQ(f, mesh.triangles.size());
+    const auto& t = mesh.triangles[0];
+    EXPECT_EQ(firstFace, "f " + std::to_string(t[0] + 1) + "//" + std::to_string(t[0] + 1) + " " +
+                             std::to_string(t[1] + 1) + "//" + std::to_string(t[1] + 1) + " " +
+                             std::to_string(t[2] + 1) + "//" + std::to_string(t[2] + 1));
     std::ifstream ply(dir / "m.ply", std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(ply)), {});
     const std::size_t body = text.find("end_header\n") + 11;
     EXPECT_NE(text.find("element face " + std::to_string(mesh.triangles.size()) + "\n"),
               std::string::npos);
-    EXPECT_EQ(text.size() - body, mesh.vertices.size() * 12 + mesh.triangles.size() * 13);
+    EXPECT_NE(text.find("property float nx\nproperty float ny\nproperty float nz\n"),
+              std::string::npos);
+    // x y z nx ny nz per vertex, then (3, a, b, c) per triangle.
+    EXPECT_EQ(text.size() - body, mesh.vertices.size() * 24 + mesh.triangles.size() * 13);
+    float n0[3];
+    std::memcpy(n0, text.data() + body + 12, 12);
+    EXPECT_EQ((Vec3{n0[0], n0[1], n0[2]}), mesh.normals[0]);
+    // Without normals the PLY is positions and faces only.
+    TriangleMesh bare = mesh;
+    bare.normals.clear();
+    writeMeshPly(dir / "bare.ply", bare);
+    EXPECT_EQ(fs::file_size(dir / "bare.ply"),
+              text.size() - 54 - mesh.vertices.size() * 12);  // 54: the three nx ny nz lines
     fs::remove_all(dir);
 }
 
@@ -290,6 +321,9 @@ TEST(MeshFrames, FrameRangesParseLikeSlices) {
         EXPECT_THROW(parseFrameRange(bad), std::invalid_argument) << bad;
     EXPECT_THROW(parseMeshFormats("obj,stl"), std::invalid_argument);
     EXPECT_TRUE(parseMeshFormats("ply").ply);
+    EXPECT_TRUE(parseMeshFormats("vtk").vtk);
+    const MeshFormats defaultFormats;  // `pbf mesh` without --format: PLY and level sets
+    EXPECT_TRUE(defaultFormats.ply && defaultFormats.vdb && !defaultFormats.obj && !defaultFormats.vtk);
 }
 
 TEST(MeshFrames, MeshesADirectoryOfFramesWithTheEstimatedRadius) {
@@ -312,6 +346,22 @@ TEST(MeshFrames, MeshesADirectoryOfFramesWithTheEstimatedRadius) {
         EXPECT_TRUE(fs::exists(dir / "surface" / surfaceFileName(f, "ply")));
         EXPECT_TRUE(fs::exists(dir / "surface" / levelSetFileName(f)));
     }
+    // VTK meshes need the frame rate: none in a directory without summary.json.
+    job.formats = parseMeshFormats("vtk");
+    EXPECT_THROW(meshFrames(job), pbf::IoError);
+    job.fps = 30.0f;
+    meshFrames(job);
+    job.range = parseFrameRange("2");  // a later job adds its frame to surface.pvd
+    meshFrames(job);
+    std::ifstream pvd(dir / "surface" / "surface.pvd");
+    const std::string listing((std::istreambuf_iterator<char>(pvd)), {});
+    EXPECT_NE(listing.find(R"(<DataSet timestep="0.03333333333333333" part="0" file="surface_00001.vtp"/>
+    <DataSet timestep="0.06666666666666667" part="0" file="surface_00002.vtp"/>
+    <DataSet timestep="0.1" part="0" file="surface_00003.vtp"/>)"),
+              std::string::npos)
+        << listing;
+    job.formats = parseMeshFormats("obj,ply,vdb");
+    job.fps = 0.0f;
     EXPECT_FALSE(fs::exists(dir / "surface" / surfaceFileName(0, "obj")));
     // summary.json of `pbf run` takes precedence over the estimate.
     std::ofstream(dir / "summary.json") << R"({"frames": 3, "particle_radius": 0.012})";

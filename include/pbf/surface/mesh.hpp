@@ -1,5 +1,5 @@
 // Triangle meshes of the water surface: the type, its measures (volume, area,
-// open edges) and the files it is written to (OBJ, binary PLY).
+// open edges) and the files it is written to (binary PLY, OBJ, VTK .vtp).
 //
 // No OpenVDB types here: this header is cheap to include.
 #pragma once
@@ -19,6 +19,9 @@ namespace pbf::surface {
 struct TriangleMesh {
     std::vector<Vec3> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
+    // Unit vertex normals pointing out of the water, one per vertex, or
+    // empty; the writers write them when present.
+    std::vector<Vec3> normals;
 };
 
 // Enclosed volume (divergence theorem; positive for outward-facing triangles)
@@ -39,9 +42,14 @@ EdgeReport checkEdges(const TriangleMesh& mesh);
 // Number of connected pieces (triangles sharing a vertex are connected).
 std::size_t countComponents(const TriangleMesh& mesh);
 
-// Wavefront OBJ (text: "v x y z", "f a b c", 1-based); every tool opens it.
+// Wavefront OBJ (text: "v x y z", "vn x y z", "f a//a b//b c//c", 1-based);
+// every tool opens it.
 void writeMeshObj(const std::filesystem::path& path, const TriangleMesh& mesh);
-// Binary little-endian PLY (float x y z; face list uchar/uint): compact.
+// Binary little-endian PLY (float x y z [nx ny nz]; face list uchar/uint):
+// about half the OBJ's size, and faster to read.
 void writeMeshPly(const std::filesystem::path& path, const TriangleMesh& mesh);
+// VTK XML PolyData for ParaView (pbf::vtk::writeTrianglesVtp, normals as
+// the point array Normals); `time` in seconds.
+void writeMeshVtp(const std::filesystem::path& path, const TriangleMesh& mesh, double time);
 
 }  // namespace pbf::surface

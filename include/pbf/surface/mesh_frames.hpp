@@ -1,6 +1,7 @@
 // `pbf mesh`'s pipeline: a directory of particle frames (frame_NNNNN.ply
-// written by `pbf run`) -> one surface mesh (OBJ / PLY) and level set (.vdb)
-// per frame. Options and defaults in docs/surfaces.md.
+// written by `pbf run`) -> one surface mesh (PLY / OBJ / VTK .vtp, the .vtp
+// files listed in surface.pvd with their times) and level set (.vdb) per
+// frame. Options and defaults in docs/surfaces.md.
 #pragma once
 
 #include <cstddef>
@@ -40,13 +41,16 @@ std::vector<FrameFile> listParticleFrames(const std::filesystem::path& directory
 // "particle_radius" from `directory`/summary.json (written by `pbf run`),
 // or 0 if the file or the field is absent. Throws IoError if it is malformed.
 float radiusFromSummary(const std::filesystem::path& directory);
+// "fps" from `directory`/summary.json likewise (0 if absent).
+float fpsFromSummary(const std::filesystem::path& directory);
 
 struct MeshFormats {
-    bool obj = true;
-    bool ply = false;
-    bool vdb = true;  // the level set
+    bool ply = true;  // binary, with normals: the default mesh
+    bool obj = false;
+    bool vtk = false;  // .vtp + surface.pvd for ParaView
+    bool vdb = true;   // the level set
 };
-// "obj,ply,vdb" (any non-empty subset). Throws std::invalid_argument.
+// "ply,obj,vtk,vdb" (any non-empty subset). Throws std::invalid_argument.
 MeshFormats parseMeshFormats(std::string_view text);
 
 struct FrameMeshReport {
@@ -68,6 +72,9 @@ struct MeshJob {
     // from the first frame (estimateParticleRadius).
     SurfaceParams params;
     MeshFormats formats;
+    // Frames per simulated second, for the times in surface.pvd (frame k at
+    // k / fps); <= 0: from summary.json. Needed only for the vtk format.
+    float fps = 0.0f;
     std::function<void(const FrameMeshReport&)> onFrame;  // may be empty
     int threads = 0;                                      // TBB worker threads, 0 = all cores
 };
@@ -87,7 +94,8 @@ struct MeshSummary {
 // OpenVDB's TBB loops. Throws IoError / std::invalid_argument.
 MeshSummary meshFrames(const MeshJob& job);
 
-// Output names: surface_00042.obj / .ply, levelset_00042.vdb.
+// Output names: surface_00042.ply / .obj / .vtp, levelset_00042.vdb; the
+// collection of the .vtp files is surface.pvd.
 std::filesystem::path surfaceFileName(int frame, std::string_view extension);
 std::filesystem::path levelSetFileName(int frame);
 
