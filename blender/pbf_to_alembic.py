@@ -7,7 +7,9 @@ The scene takes the run's frame rate, so every run frame is one Alembic
 sample. The file holds the particles (points with their velocity), the
 surface mesh sequence and the rigid bodies as animated transforms; level sets
 are left out (Alembic has no volumes: use the .vdb files). Exits non-zero
-with a message naming the file for a bad run directory.
+with a message naming the file for a bad run directory, and with status 3
+when this Blender has no Alembic exporter: Debian's blender package (3.4.1)
+is built without Alembic; Blender's own builds (blender.org) have it.
 """
 
 import os
@@ -24,6 +26,11 @@ def main(argv):
               file=sys.stderr)
         return 2
     run_dir, out = (os.path.abspath(a) for a in argv)
+    if not bpy.app.build_options.alembic:
+        print(f"pbf_to_alembic: this Blender ({bpy.app.version_string}, {bpy.app.binary_path}) "
+              "was built without Alembic (Debian's blender package is); use a Blender from "
+              "blender.org", file=sys.stderr)
+        return 3
     bpy.ops.wm.read_factory_settings(use_empty=True)
     import io_scene_pbf
     from io_scene_pbf.run_dir import RunDirectory, RunError

@@ -17,6 +17,11 @@ packages=(
   # the Python module (PBF_BUILD_PYTHON), its tests, and `pip install .` offline in a venv
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-venv python3-pip python3-setuptools python3-wheel
+  # client tests (tests/clients, docs/clients.md): runs opened headless in ParaView (pvpython)
+  # and Blender (the add-on in blender/, Alembic export). Measured on the 2-core machine:
+  # paraview + python3-paraview 116 packages, 741 MB, 200 s; blender then 33 more, 331 MB, 65 s.
+  # Not libvtk9-dev: it depends on python3-vtk9, which python3-paraview conflicts with.
+  paraview python3-paraview blender
 )
 if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 
