@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `pbf run` killed for real, then resumed: SIGKILL (no chance to clean up) and
 # SIGTERM (stops cleanly with a checkpoint) in the middle of a run, then
-# `--resume`; every frame file must equal the uninterrupted run's byte for byte.
+# `--resume`; every frame file must equal the uninterrupted run's byte for byte,
+# and the VTK collection particles.pvd must list every frame once.
 # Usage: kill_resume_test.sh PBF SCENE WORKDIR
 set -euo pipefail
 pbf=$1
@@ -11,7 +12,7 @@ rm -rf "$work"
 mkdir -p "$work"
 frames=40
 args=(run "$scene" --frames "$frames" -q --set particle_radius=0.015 --checkpoint-every 2
-      --checkpoint-seconds 0)
+      --checkpoint-seconds 0 --vtk)
 
 "$pbf" "${args[@]}" --out "$work/straight" > /dev/null
 
@@ -46,9 +47,11 @@ compare() {
     local count
     count=$(ls "$work/straight"/frame_*.ply | wc -l)
     [ "$count" -eq $((frames + 1)) ] || { echo "FAIL: $count frames in the straight run"; exit 1; }
-    for f in "$work/straight"/frame_*.ply; do
+    for f in "$work/straight"/frame_*.ply "$work/straight"/frame_*.vtu; do
         cmp "$f" "$dir/$(basename "$f")" || { echo "FAIL: $(basename "$f") differs after resume"; exit 1; }
     done
+    cmp "$work/straight/particles.pvd" "$dir/particles.pvd" ||
+        { echo "FAIL: particles.pvd after resume differs from the uninterrupted run's"; cat "$dir/particles.pvd"; exit 1; }
     if ls -A "$dir" | grep -q '\.tmp'; then echo "FAIL: temporary files left in $dir"; exit 1; fi
 }
 
