@@ -148,6 +148,20 @@ turned_x = body1.to_3x3() @ __import__("mathutils").Vector((1, 0, 0))
 check(max(abs(turned_x[i] - (0, 1, 0)[i]) for i in range(3)) < 1e-5,
       f"body 1 turns x to {tuple(turned_x)}, expected (0, 1, 0)")
 
+# A saved .blend keeps following the frames once reopened (load_post and
+# frame-change handlers): frame 2 of a 24 fps scene shows run frame 1.
+blend = os.path.join(WORK, "imported.blend")
+bpy.ops.wm.save_as_mainfile(filepath=blend)
+bpy.ops.wm.open_mainfile(filepath=blend)
+scene = bpy.context.scene
+scene.frame_set(2)
+reopened = bpy.data.objects[name + " particles"]
+ply, _ = read_ply(os.path.join(RUN, "frame_00001.ply"))
+check(len(reopened.data.vertices) == len(ply) and reopened["pbf_frame"] == 1,
+      f"after reopening the .blend: run frame {reopened.get('pbf_frame')}, {len(reopened.data.vertices)} points")
+density = attribute(reopened.data, "density", "value", 1)
+check(np.array_equal(density, ply["density"]), "after reopening the .blend: density differs")
+
 # A directory that is not a run: a clear error naming it.
 try:
     bpy.ops.import_scene.pbf(directory=os.path.join(WORK, "no_such_run"))
@@ -158,4 +172,4 @@ except RuntimeError as e:
 if failures:
     print(f"blender: {len(failures)} checks failed")
     sys.exit(1)
-print(f"blender: all checks passed ({scene.frame_end} scene frames, run frames 0-{frames[-1]})")
+print(f"blender: all checks passed (run frames 0-{frames[-1]} at {fps:g} fps in a 24 fps scene)")

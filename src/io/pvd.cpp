@@ -28,11 +28,20 @@ std::string escapeXml(std::string_view text) {
     std::string out;
     for (const char c : text) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
         }
     }
     return out;
@@ -100,8 +109,8 @@ void appendToCollection(const std::filesystem::path& path, const CollectionEntry
     // one, as stats.csv holds whole rows (appendToFile).
     const std::string text = entryLine(entry) + std::string(kTail);
     errno = 0;
-    const ::ssize_t written = ::pwrite(fd.get(), text.data(), text.size(),
-                                       static_cast<off_t>(size - kTail.size()));
+    const ::ssize_t written =
+        ::pwrite(fd.get(), text.data(), text.size(), static_cast<off_t>(size - kTail.size()));
     if (written != static_cast<::ssize_t>(text.size())) fail(path, "write failed (disk full?)");
     if (!fd.close()) fail(path, "write failed when closing (disk full?)");
 }

@@ -2,9 +2,10 @@
 // and its offset into one raw <AppendedData> block, where each array is its
 // UInt64 byte count followed by its little-endian bytes. Arrays are produced
 // in chunks straight into the stream, so a frame never exists twice in memory.
+#include <fmt/format.h>
+
 #include <bit>
 #include <cstring>
-#include <fmt/format.h>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -23,22 +24,30 @@ enum class Scalar { Float32, UInt8, UInt32, Int32, Int64 };
 
 const char* typeName(Scalar type) {
     switch (type) {
-        case Scalar::Float32: return "Float32";
-        case Scalar::UInt8: return "UInt8";
-        case Scalar::UInt32: return "UInt32";
-        case Scalar::Int32: return "Int32";
-        case Scalar::Int64: return "Int64";
+        case Scalar::Float32:
+            return "Float32";
+        case Scalar::UInt8:
+            return "UInt8";
+        case Scalar::UInt32:
+            return "UInt32";
+        case Scalar::Int32:
+            return "Int32";
+        case Scalar::Int64:
+            return "Int64";
     }
     return "";
 }
 
 std::size_t typeSize(Scalar type) {
     switch (type) {
-        case Scalar::UInt8: return 1;
+        case Scalar::UInt8:
+            return 1;
         case Scalar::Float32:
         case Scalar::UInt32:
-        case Scalar::Int32: return 4;
-        case Scalar::Int64: return 8;
+        case Scalar::Int32:
+            return 4;
+        case Scalar::Int64:
+            return 8;
     }
     return 0;
 }
@@ -60,9 +69,10 @@ class Appended {
   public:
     // Returns the <DataArray> tag of `array` (added to the block).
     std::string add(Array array) {
-        std::string tag = fmt::format(R"(<DataArray type="{}" Name="{}")", typeName(array.type),
-                                      array.name);
-        if (array.components != 1) tag += fmt::format(R"( NumberOfComponents="{}")", array.components);
+        std::string tag =
+            fmt::format(R"(<DataArray type="{}" Name="{}")", typeName(array.type), array.name);
+        if (array.components != 1)
+            tag += fmt::format(R"( NumberOfComponents="{}")", array.components);
         tag += fmt::format(R"( format="appended" offset="{}"/>)", offset_);
         offset_ += sizeof(std::uint64_t) + array.bytes();
         arrays_.push_back(std::move(array));
@@ -167,8 +177,8 @@ void writeParticlesVtu(const std::filesystem::path& path, const ParticleStore& p
     Appended block;
     const std::string velocity = block.add(vectorArray("velocity", p.velocity, order));
     const std::string density =
-        block.add({"density", Scalar::Float32, 1, n, [&](std::size_t first, std::size_t count,
-                                                         std::byte* out) {
+        block.add({"density", Scalar::Float32, 1, n,
+                   [&](std::size_t first, std::size_t count, std::byte* out) {
                        for (std::size_t k = 0; k < count; ++k)
                            store(out, k, p.density[order[first + k]]);
                    }});
@@ -194,8 +204,8 @@ void writeParticlesVtu(const std::filesystem::path& path, const ParticleStore& p
             << "      <PointData Scalars=\"density\" Vectors=\"velocity\">\n"
             << "        " << velocity << "\n        " << density << "\n        " << id << "\n"
             << "      </PointData>\n      <Points>\n        " << points << "\n      </Points>\n"
-            << "      <Cells>\n        " << connectivity << "\n        " << offsets
-            << "\n        " << types << "\n      </Cells>\n"
+            << "      <Cells>\n        " << connectivity << "\n        " << offsets << "\n        "
+            << types << "\n      </Cells>\n"
             << "    </Piece>\n  </UnstructuredGrid>\n";
         block.write(out);
     });
@@ -214,14 +224,15 @@ void writeTrianglesVtp(const std::filesystem::path& path, std::span<const Vec3> 
     Appended block;
     std::string normalTag;
     if (!normals.empty())
-        normalTag = block.add(contiguousArray(
-            "Normals", Scalar::Float32, 3,
-            std::span<const float>(reinterpret_cast<const float*>(normals.data()),
-                                   3 * normals.size())));
+        normalTag = block.add(
+            contiguousArray("Normals", Scalar::Float32, 3,
+                            std::span<const float>(reinterpret_cast<const float*>(normals.data()),
+                                                   3 * normals.size())));
     const std::string points = block.add(contiguousArray("Points", Scalar::Float32, 3, xyz));
     const Scalar index = indexType(3 * std::uint64_t{t});
-    const std::string connectivity = block.add(indexArray(
-        "connectivity", index, 3 * t, [triangles](std::size_t k) { return triangles[k / 3][k % 3]; }));
+    const std::string connectivity =
+        block.add(indexArray("connectivity", index, 3 * t,
+                             [triangles](std::size_t k) { return triangles[k / 3][k % 3]; }));
     const std::string offsets =
         block.add(indexArray("offsets", index, t, [](std::size_t k) { return 3 * (k + 1); }));
     writeFileAtomically(path, [&](std::ostream& out) {

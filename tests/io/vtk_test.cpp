@@ -85,8 +85,10 @@ TEST(Vtk, ParticlesAreVertexCellsWithEveryAttributeInIdOrder) {
     const fs::path dir = freshDirectory("vtu");
     pbf::vtk::writeParticlesVtu(dir / "f.vtu", p, 0.5);
     const std::string file = readText(dir / "f.vtu");
-    EXPECT_NE(file.find(R"(<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">)"),
-              std::string::npos);
+    EXPECT_NE(
+        file.find(
+            R"(<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">)"),
+        std::string::npos);
     EXPECT_NE(file.find(R"(<Piece NumberOfPoints="100" NumberOfCells="100">)"), std::string::npos);
     EXPECT_NE(file.find(R"(Name="TimeValue" NumberOfTuples="1" format="ascii">0.5<)"),
               std::string::npos);
@@ -129,17 +131,20 @@ TEST(Vtk, TrianglesWithNormals) {
     const fs::path dir = freshDirectory("vtp");
     pbf::vtk::writeTrianglesVtp(dir / "m.vtp", vertices, normals, triangles, 1.0 / 30.0);
     const std::string file = readText(dir / "m.vtp");
-    EXPECT_NE(file.find(R"(NumberOfPoints="4" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="2")"),
-              std::string::npos);
+    EXPECT_NE(
+        file.find(
+            R"(NumberOfPoints="4" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="2")"),
+        std::string::npos);
     const auto arrays = parseAppended(file);
-    EXPECT_EQ(arrays.at("Normals").values<float>(), (std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}));
+    EXPECT_EQ(arrays.at("Normals").values<float>(),
+              (std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}));
     EXPECT_EQ(arrays.at("Points").values<float>().size(), 12u);
     EXPECT_EQ(arrays.at("connectivity").values<std::int32_t>(),
               (std::vector<std::int32_t>{0, 1, 2, 2, 1, 3}));
     EXPECT_EQ(arrays.at("offsets").values<std::int32_t>(), (std::vector<std::int32_t>{3, 6}));
     // Normals must match the vertices one to one.
-    EXPECT_THROW(pbf::vtk::writeTrianglesVtp(dir / "bad.vtp", vertices,
-                                             std::span(normals).first(3), triangles, 0.0),
+    EXPECT_THROW(pbf::vtk::writeTrianglesVtp(dir / "bad.vtp", vertices, std::span(normals).first(3),
+                                             triangles, 0.0),
                  pbf::IoError);
     fs::remove_all(dir);
 }

@@ -107,8 +107,8 @@ TEST(Surface, BallMeshesToAClosedSphereOfTheFluidVolume) {
         shape += dot(mesh.normals[k], faceSums[k]) / length(faceSums[k]);
     }
     const double n = double(mesh.vertices.size());
-    std::printf("normals: mean cosine to the mesh's %.4f, to radial %.4f (least %.3f)\n",
-                shape / n, radial / n, leastRadial);
+    std::printf("normals: mean cosine to the mesh's %.4f, to radial %.4f (least %.3f)\n", shape / n,
+                radial / n, leastRadial);
     EXPECT_GT(shape / n, 0.995);
     EXPECT_GT(radial / n, 0.97);
     EXPECT_GT(leastRadial, 0.8);
@@ -336,7 +336,8 @@ TEST(MeshFrames, FrameRangesParseLikeSlices) {
     EXPECT_TRUE(parseMeshFormats("ply").ply);
     EXPECT_TRUE(parseMeshFormats("vtk").vtk);
     const MeshFormats defaultFormats;  // `pbf mesh` without --format: PLY and level sets
-    EXPECT_TRUE(defaultFormats.ply && defaultFormats.vdb && !defaultFormats.obj && !defaultFormats.vtk);
+    EXPECT_TRUE(defaultFormats.ply && defaultFormats.vdb && !defaultFormats.obj &&
+                !defaultFormats.vtk);
 }
 
 TEST(MeshFrames, MeshesADirectoryOfFramesWithTheEstimatedRadius) {
@@ -368,10 +369,11 @@ TEST(MeshFrames, MeshesADirectoryOfFramesWithTheEstimatedRadius) {
     meshFrames(job);
     std::ifstream pvd(dir / "surface" / "surface.pvd");
     const std::string listing((std::istreambuf_iterator<char>(pvd)), {});
-    EXPECT_NE(listing.find(R"(<DataSet timestep="0.03333333333333333" part="0" file="surface_00001.vtp"/>
+    EXPECT_NE(
+        listing.find(R"(<DataSet timestep="0.03333333333333333" part="0" file="surface_00001.vtp"/>
     <DataSet timestep="0.06666666666666667" part="0" file="surface_00002.vtp"/>
     <DataSet timestep="0.1" part="0" file="surface_00003.vtp"/>)"),
-              std::string::npos)
+        std::string::npos)
         << listing;
     job.formats = parseMeshFormats("obj,ply,vdb");
     job.fps = 0.0f;
