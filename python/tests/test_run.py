@@ -32,6 +32,18 @@ def test_run_writes_frames_and_summary(dam_break, tmp_path):
     assert np.array_equal(last["x"], world.positions[:, 0])
 
 
+def test_run_writes_vtk_when_the_scene_asks(dam_break, tmp_path):
+    out = tmp_path / "vtk"
+    pbf.run(dam_break, out=out, frames=2, overrides={"particle_radius": 0.02, "output.vtk": True})
+    for k in range(3):
+        assert (out / f"frame_{k:05d}.vtu").is_file()
+    listing = (out / "particles.pvd").read_text()
+    assert listing.count("<DataSet ") == 3
+    fps = json.loads((out / "summary.json").read_text())["fps"]
+    assert f'timestep="{2 / fps!r}" part="0" file="frame_00002.vtu"' in listing
+    assert pbf.load_scene(dam_break).output.vtk is False  # off unless asked for
+
+
 def test_run_raises_state_error_with_summary(dam_break, tmp_path):
     with pytest.raises(pbf.StateError, match="particle id") as error:
         pbf.run(dam_break, out=tmp_path, frames=5,
