@@ -202,6 +202,7 @@ int runRender(const RenderArguments& args) {
         run.output.frames = total - 1;
         run.output.writeParticles = false;
         run.output.writeVdbPoints = false;
+        run.output.writeVtk = false;
         run.output.writeCheckpoints = false;
         RunOptions options;
         options.writeFrame = [&](int frame, const World& world) {

@@ -48,7 +48,7 @@ def _on_frame_change(scene, depsgraph=None):
 
 
 @persistent
-def _on_load(_):
+def _on_load(*_):
     objects.forget_runs()
     for scene in bpy.data.scenes:
         _on_frame_change(scene)

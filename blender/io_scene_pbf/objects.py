@@ -213,8 +213,9 @@ def create_run(context, run, name, particles=True, surfaces=True, level_sets=Tru
             mesh_obj.hide_viewport = True
             mesh_obj.hide_render = True
         made["level_set_mesh"] = mesh_obj
-    if bodies and run.bodies:
-        for body, samples in sorted(read_bodies(run.bodies).items()):
+    poses = read_bodies(run.bodies) if bodies and run.bodies else {}
+    if poses:
+        for body, samples in sorted(poses.items()):
             obj = add(bpy.data.objects.new(f"{name} body {body}", None))
             obj.empty_display_type = "CUBE"
             obj.empty_display_size = 0.05
@@ -223,9 +224,7 @@ def create_run(context, run, name, particles=True, surfaces=True, level_sets=Tru
 
     # The timeline covers the run: its last frame at its time.
     last = max([s.frames[-1] for s in (run.particles, run.surfaces, run.level_sets) if s] + [0])
-    end_time = last / run.fps
-    if run.bodies:
-        end_time = max([end_time] + [s[-1][0] for s in read_bodies(run.bodies).values()])
+    end_time = max([last / run.fps] + [samples[-1][0] for samples in poses.values()])
     scene.frame_end = start + math.ceil(end_time * scene_fps(scene) - 1e-6)
     for obj in made.values():
         if "pbf_kind" in obj:

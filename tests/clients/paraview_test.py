@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 from paraview import servermanager
-from paraview.simple import PVDReader
+from paraview.simple import PVDReader, XMLUnstructuredGridReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 run = sys.argv[1]
@@ -68,6 +68,11 @@ for k, t in zip(frames, times):
     check(np.array_equal(arrays["density"], ply["density"]), f"frame {k}: density differs")
     check(np.array_equal(arrays["id"], ply["id"]), f"frame {k}: id differs")
 print(f"particles.pvd: {len(times)} time steps, {frames[-1] + 1} frames checked against the PLY files")
+
+# Opened as a numbered series without the .pvd, the files' TimeValue gives the same times.
+series = XMLUnstructuredGridReader(FileName=[os.path.join(run, f"frame_{k:05d}.vtu") for k in frames])
+check(list(series.TimestepValues) == [k / fps for k in frames],
+      f"frame_*.vtu as a series: times {list(series.TimestepValues)}")
 
 surface_dir = os.path.join(run, "surface")
 surfaces = sorted(int(n[8:13]) for n in os.listdir(surface_dir) if n.startswith("surface_") and n.endswith(".vtp"))
