@@ -148,6 +148,23 @@ turned_x = body1.to_3x3() @ __import__("mathutils").Vector((1, 0, 0))
 check(max(abs(turned_x[i] - (0, 1, 0)[i]) for i in range(3)) < 1e-5,
       f"body 1 turns x to {tuple(turned_x)}, expected (0, 1, 0)")
 
+# Surfaces written as OBJ (`pbf mesh --format obj`) in a folder of their own,
+# with no summary.json: the frame rate is given; the meshes are the PLY's.
+obj_run = os.path.join(WORK, "obj_run")
+check(bpy.ops.import_scene.pbf(directory=obj_run, fps=fps) == {"FINISHED"}, "OBJ surfaces import failed")
+obj_surface = bpy.data.objects["pbf obj_run surface"]
+for f, k in ((1, 0), (3, 2)):  # 24 fps scene, 30 fps run
+    scene.frame_set(f)
+    _, counts = read_ply(os.path.join(RUN, "surface", f"surface_{k:05d}.ply"))
+    check(len(obj_surface.data.vertices) == counts["vertex"] and len(obj_surface.data.polygons) == counts["face"],
+          f"OBJ surface at scene frame {f}: {len(obj_surface.data.vertices)} vertices, surface_{k:05d}.ply {counts['vertex']}")
+    check(obj_surface.data.has_custom_normals, f"OBJ surface at scene frame {f}: the file's normals were not used")
+try:
+    bpy.ops.import_scene.pbf(directory=obj_run)
+    check(False, "a run without fps imported")
+except RuntimeError as e:
+    check("no fps in summary.json" in str(e), f"unclear error without fps: {e}")
+
 # A saved .blend keeps following the frames once reopened (load_post and
 # frame-change handlers): frame 2 of a 24 fps scene shows run frame 1.
 blend = os.path.join(WORK, "imported.blend")
