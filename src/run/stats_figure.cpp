@@ -1,0 +1,81 @@
+// The statistics of a run as one figure (`pbf plot`, the end of `pbf run`).
+#include <fmt/format.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "pbf/run.hpp"
+
+namespace pbf {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<double> scaled(const std::vector<double>& values, double factor) {
+    std::vector<double> out(values);
+    for (double& v : out) v *= factor;
+    return out;
+}
+
+// The scene name summary.json records; the directory's name without one.
+std::string sceneNameOf(const fs::path& runDirectory) {
+    std::ifstream in(runDirectory / "summary.json");
+    if (in) {
+        const nlohmann::json summary = nlohmann::json::parse(in, nullptr, false);
+        if (summary.is_object() && summary.contains("scene") && summary["scene"].is_string())
+            return summary["scene"].get<std::string>();
+    }
+    return fs::absolute(runDirectory).lexically_normal().filename().string();
+}
+
+}  // namespace
+
+plot::Figure statsFigure(const StatsTable& stats, const std::string& sceneName) {
+    using plot::Series;
+    using plot::Style;
+    const std::vector<double>& t = stats.column("time");
+    const std::string time = "simulated time (s)";
+    const std::vector<double>& particles = stats.column("particles");
+    plot::Figure figure;
+    figure.title = fmt::format("{}: statistics per frame ({} frames, {:.0f} particles at the end)",
+                               sceneName, stats.rows(), particles.back());
+    figure.columns = 2;
+    figure.panels = {
+        {"Density error (compression, max(rho/rho0 - 1, 0))",
+         time,
+         "density error (%)",
+         {Series{"average", t, scaled(stats.column("avg_density_error"), 100.0), Style::Line},
+          Series{"maximum", t, scaled(stats.column("max_density_error"), 100.0), Style::Line}}},
+        {"Kinetic energy",
+         time,
+         "kinetic energy (J)",
+         {Series{"1/2 m sum |v|^2", t, stats.column("kinetic_energy"), Style::Line}}},
+        {"Particles", time, "particles", {Series{"count", t, particles, Style::Line}}},
+        {"Substeps per frame (CFL-limited or fixed)",
+         time,
+         "substeps",
+         {Series{"substeps", t, stats.column("substeps"), Style::Line}}},
+        {"Wall-clock time per substep",
+         time,
+         "step time (ms)",
+         {Series{"whole step", t, stats.column("step_ms"), Style::Line},
+          Series{"neighbour search", t, stats.column("neighbor_ms"), Style::Dashed},
+          Series{"density solve", t, stats.column("solve_ms"), Style::Dashed},
+          Series{"predict + post-process", t, stats.column("post_ms"), Style::Dashed}}},
+        {"Fastest particle",
+         time,
+         "max speed (m/s)",
+         {Series{"max |v|", t, stats.column("max_speed"), Style::Line}}},
+    };
+    return figure;
+}
+
+plot::Result plotRunStatistics(const fs::path& runDirectory, const fs::path& png) {
+    std::error_code ec;
+    if (!fs::is_directory(runDirectory, ec))
+        throw IoError(runDirectory.string() + ": no such directory");
+    const StatsTable stats = readStatsCsv(runDirectory / "stats.csv");
+    return plot::drawFigures({{statsFigure(stats, sceneNameOf(runDirectory)), png}});
+}
+
+}  // namespace pbf
