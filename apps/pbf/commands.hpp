@@ -16,5 +16,6 @@ std::function<int()> addRenderCommand(CLI::App& app);
 #endif
 std::function<int()> addMeshCommand(CLI::App& app);
 std::function<int()> addPlotCommand(CLI::App& app);
+std::function<int()> addValidateCommand(CLI::App& app);
 
 }  // namespace pbf::cli

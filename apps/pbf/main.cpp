@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
 #endif
     const auto mesh = pbf::cli::addMeshCommand(app);
     const auto plot = pbf::cli::addPlotCommand(app);
+    const auto validate = pbf::cli::addValidateCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
 #endif
         if (app.got_subcommand("mesh")) return mesh();
         if (app.got_subcommand("plot")) return plot();
+        if (app.got_subcommand("validate")) return validate();
     } catch (const std::exception& e) {
         pbf::cli::printError(e.what());
         return 1;

@@ -220,7 +220,17 @@ std::function<int()> addRunCommand(CLI::App& app) {
                     "scene's output.render")
         ->expected(0, 1)
         ->default_str("spheres")
-        ->check(CLI::IsMember({"spheres", "liquid", "none"}));
+        ->check(
+            [](const std::string& value) -> std::string {
+                if (value == "spheres" || value == "liquid" || value == "none") return {};
+                // `--render` takes an optional value, so `pbf run --render SCENE`
+                // reads the scene as the look.
+                return "must be spheres, liquid or none, got '" + value + "'" +
+                       (value.ends_with(".json")
+                            ? " (that is a scene: put --render after it, or write --render=spheres)"
+                            : "");
+            },
+            "LOOK");
     run->add_flag("--no-plot", args->noPlot,
                   "Do not plot the statistics into RUN_DIR/stats.png at the end (matplotlib)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");

@@ -11,6 +11,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The values of the rows where `keep` is not zero.
+std::vector<double> where(const std::vector<double>& values, const std::vector<double>& keep) {
+    std::vector<double> out;
+    for (std::size_t k = 0; k < values.size(); ++k)
+        if (keep[k] != 0.0) out.push_back(values[k]);
+    return out;
+}
+
 std::vector<double> scaled(const std::vector<double>& values, double factor) {
     std::vector<double> out(values);
     for (double& v : out) v *= factor;
@@ -36,6 +44,10 @@ plot::Figure statsFigure(const StatsTable& stats, const std::string& sceneName) 
     const std::vector<double>& t = stats.column("time");
     const std::string time = "simulated time (s)";
     const std::vector<double>& particles = stats.column("particles");
+    // Frame 0 is the initial state: no step, so no substeps or step time to show.
+    const std::vector<double>& substeps = stats.column("substeps");
+    const std::vector<double> stepped = where(t, substeps);
+    const auto perStep = [&](const char* column) { return where(stats.column(column), substeps); };
     plot::Figure figure;
     figure.title = fmt::format("{}: statistics per frame ({} frames, {:.0f} particles at the end)",
                                sceneName, stats.rows(), particles.back());
@@ -54,14 +66,14 @@ plot::Figure statsFigure(const StatsTable& stats, const std::string& sceneName) 
         {"Substeps per frame (CFL-limited or fixed)",
          time,
          "substeps",
-         {Series{"substeps", t, stats.column("substeps"), Style::Line}}},
+         {Series{"substeps", stepped, perStep("substeps"), Style::Line}}},
         {"Wall-clock time per substep",
          time,
          "step time (ms)",
-         {Series{"whole step", t, stats.column("step_ms"), Style::Line},
-          Series{"neighbour search", t, stats.column("neighbor_ms"), Style::Dashed},
-          Series{"density solve", t, stats.column("solve_ms"), Style::Dashed},
-          Series{"predict + post-process", t, stats.column("post_ms"), Style::Dashed}}},
+         {Series{"whole step", stepped, perStep("step_ms"), Style::Line},
+          Series{"neighbour search", stepped, perStep("neighbor_ms"), Style::Dashed},
+          Series{"density solve", stepped, perStep("solve_ms"), Style::Dashed},
+          Series{"predict + post-process", stepped, perStep("post_ms"), Style::Dashed}}},
         {"Fastest particle",
          time,
          "max speed (m/s)",
