@@ -17,6 +17,8 @@ packages=(
   # the Python module (PBF_BUILD_PYTHON), its tests, and `pip install .` offline in a venv
   pybind11-dev python3-dev python3-numpy python3-pytest
   python3-venv python3-pip python3-setuptools python3-wheel
+  # plots of `pbf plot`, `pbf run` and `pbf validate` (scripts/pbf_plot.py, run with /usr/bin/python3)
+  python3-matplotlib
 )
 if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 
