@@ -18,9 +18,9 @@ struct PlotArguments {
 };
 
 int runPlot(const PlotArguments& args) {
-    const std::filesystem::path png =
-        args.out.empty() ? std::filesystem::path(args.directory) / "stats.png"
-                         : std::filesystem::path(args.out);
+    const std::filesystem::path png = args.out.empty()
+                                          ? std::filesystem::path(args.directory) / "stats.png"
+                                          : std::filesystem::path(args.out);
     const plot::Result result = plotRunStatistics(args.directory, png);
     if (!result.drawn) {
         // The plot is all this command makes: without it the command failed.

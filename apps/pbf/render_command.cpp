@@ -23,8 +23,8 @@
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::cli {
 namespace {
@@ -117,8 +117,8 @@ int runRender(const RenderArguments& args) {
         throw std::invalid_argument(
             "give a scene file to simulate, or --ply DIR (a directory of PLY frames)");
     const bool simulate = args.plyDirectory.empty();
-    if (const std::string problem = render::validateResolution(args.width.value_or(960),
-                                                               args.height.value_or(540));
+    if (const std::string problem =
+            render::validateResolution(args.width.value_or(960), args.height.value_or(540));
         !problem.empty())
         throw std::invalid_argument(problem);
     if (args.fov && !(*args.fov >= 1.0f && *args.fov <= 170.0f))
@@ -268,8 +268,9 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Scene: frames to simulate after the initial one (default: output.frames); "
                     "PLY: at most this many files")
         ->check(CLI::Range(0, 1000000));
-    cmd->add_option("--width", args->width,
-                    "Image width in pixels [16, 8192] (default: the scene's output.image_size, 960)");
+    cmd->add_option(
+        "--width", args->width,
+        "Image width in pixels [16, 8192] (default: the scene's output.image_size, 960)");
     cmd->add_option("--height", args->height,
                     "Image height in pixels [16, 8192] (default: the scene's, 540)");
     cmd->add_option("--camera-position", args->cameraPosition,

@@ -122,9 +122,9 @@ int runScene(const RunArguments& args) {
     const std::unique_ptr<RunImages> images = RunImages::start(scene, warn);
     options.writeFrame = [&](int frame, const World& world) {
         if (scene.output.writeVdbPoints)
-            surface::writeParticlesVdb(
-                std::filesystem::path(scene.output.directory) / fmt::format("frame_{:05d}.vdb", frame),
-                world.particles());
+            surface::writeParticlesVdb(std::filesystem::path(scene.output.directory) /
+                                           fmt::format("frame_{:05d}.vdb", frame),
+                                       world.particles());
         if (images) images->write(frame, world);
     };
     options.onFrame = [&](const FrameReport& r) {
@@ -214,10 +214,11 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--mesh", args->mesh,
                   "Afterwards mesh the frames into DIR/surface (OBJ + level-set .vdb; `pbf mesh` "
                   "has the options)");
-    run->add_option("--render", args->render,
-                    "Render every frame while simulating: spheres or liquid (RUN_DIR/images/*.png), "
-                    "then RUN_DIR/<scene>.mp4 (ffmpeg) and RUN_DIR/poster.png; none turns off the "
-                    "scene's output.render")
+    run->add_option(
+           "--render", args->render,
+           "Render every frame while simulating: spheres or liquid (RUN_DIR/images/*.png), "
+           "then RUN_DIR/<scene>.mp4 (ffmpeg) and RUN_DIR/poster.png; none turns off the "
+           "scene's output.render")
         ->expected(0, 1)
         ->default_str("spheres")
         ->check(

@@ -39,9 +39,8 @@ std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
     try {
         settings = render::imageSettingsFor(scene);
     } catch (const std::invalid_argument& e) {
-        throw SceneError(
-            fmt::format("{}: output.camera_position / output.camera_target: {}", scene.source,
-                        e.what()));
+        throw SceneError(fmt::format("{}: output.camera_position / output.camera_target: {}",
+                                     scene.source, e.what()));
     }
     try {
         std::unique_ptr<RunImages> images(new RunImages(std::make_unique<Impl>(scene, settings)));
@@ -55,8 +54,8 @@ std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
 }
 
 void RunImages::write(int frame, const World& world) {
-    impl_->images.write(frame,
-                        render::packParticles(world.particles(), impl_->images.settings().look.color));
+    impl_->images.write(
+        frame, render::packParticles(world.particles(), impl_->images.settings().look.color));
 }
 
 double RunImages::seconds() const {
@@ -97,8 +96,9 @@ struct RunImages::Impl {};
 std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
                                             const std::function<void(const std::string&)>& warn) {
     if (scene.output.render.enabled())
-        warn("no images: this pbf was built without rendering (PBF_BUILD_VIEWER=OFF); "
-             "output.render is ignored");
+        warn(
+            "no images: this pbf was built without rendering (PBF_BUILD_VIEWER=OFF); "
+            "output.render is ignored");
     return nullptr;
 }
 

@@ -39,7 +39,8 @@ validation::CaseResult runCase(const validation::Case& c, const validation::Opti
         result.notes = std::string("The case stopped with an error: ") + e.what();
         result.checks.push_back({"case ran to the end", 0.0, 1.0, 0.0, "", "", e.what()});
     }
-    result.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 
@@ -57,15 +58,16 @@ int runValidate(const ValidateArguments& args) {
         if (!found) {
             std::string known;
             for (const validation::Case& c : all) known += (known.empty() ? "" : ", ") + c.name;
-            throw CLI::ValidationError("CASE", "unknown case '" + name + "' (cases: " + known + ")");
+            throw CLI::ValidationError("CASE",
+                                       "unknown case '" + name + "' (cases: " + known + ")");
         }
         chosen.push_back(found);
     }
     if (chosen.empty())
         for (const validation::Case& c : all) chosen.push_back(&c);
     if (args.threads > 0) setThreadCount(args.threads);
-    const std::string out = !args.out.empty() ? args.out
-                                              : (args.quick ? "out/validate_quick" : "out/validate");
+    const std::string out =
+        !args.out.empty() ? args.out : (args.quick ? "out/validate_quick" : "out/validate");
 
     validation::Options options;
     options.quick = args.quick;

@@ -65,9 +65,9 @@ struct Job {
 };
 
 struct Result {
-    bool drawn = false;             // every PNG was written
+    bool drawn = false;              // every PNG was written
     bool missingDependency = false;  // Python or matplotlib is not installed
-    std::string message;            // why not (what to install, or the script's error)
+    std::string message;             // why not (what to install, or the script's error)
 };
 
 // The message drawFigures gives when matplotlib (or Python) is missing.

@@ -16,9 +16,9 @@ namespace pbf {
 std::optional<std::filesystem::path> findProgram(const std::string& program);
 
 struct ProgramResult {
-    bool started = false;    // false: the program could not be run (see `output`)
-    int exitStatus = -1;     // the exit status, or -1 when it was killed by a signal
-    std::string output;      // stdout and stderr together (the last 64 KiB)
+    bool started = false;  // false: the program could not be run (see `output`)
+    int exitStatus = -1;   // the exit status, or -1 when it was killed by a signal
+    std::string output;    // stdout and stderr together (the last 64 KiB)
     bool ok() const { return started && exitStatus == 0; }
 };
 

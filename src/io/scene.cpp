@@ -386,8 +386,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     readEmitters(root, scene);
     readFluidBlocks(root, scene);
     root.finish();
-    if (const std::string problem = validate(static_cast<const WorldDef&>(scene));
-        !problem.empty())
+    if (const std::string problem = validate(static_cast<const WorldDef&>(scene)); !problem.empty())
         throw SceneError(sourceName + ": " + problem);
     scene.fingerprint = fingerprintOf(std::move(document));
     return scene;

@@ -51,8 +51,8 @@ std::string toJson(const Figure& figure) {
         nlohmann::json series = nlohmann::json::array();
         for (const Series& s : panel.series) {
             if (s.x.size() != s.y.size())
-                throw std::invalid_argument("plot series '" + s.label + "': " +
-                                            std::to_string(s.x.size()) + " x values but " +
+                throw std::invalid_argument("plot series '" + s.label +
+                                            "': " + std::to_string(s.x.size()) + " x values but " +
                                             std::to_string(s.y.size()) + " y values");
             // NaN and infinity become null (JSON has no NaN); the script leaves a gap.
             series.push_back(
@@ -129,8 +129,7 @@ Result drawFigures(const std::vector<Job>& jobs) {
                          (run.started ? " (exit status " + std::to_string(run.exitStatus) + ")"
                                       : std::string()) +
                          ": " + run.output;
-        while (!result.message.empty() && result.message.back() == '\n')
-            result.message.pop_back();
+        while (!result.message.empty() && result.message.back() == '\n') result.message.pop_back();
     }
     return result;
 }

@@ -32,7 +32,8 @@ StatsTable readStatsCsv(const std::filesystem::path& file) {
     StatsTable table;
     table.file = file.string();
     std::ifstream in(file);
-    if (!in) throw IoError(table.file + ": cannot open (no stats.csv: is this a pbf run directory?)");
+    if (!in)
+        throw IoError(table.file + ": cannot open (no stats.csv: is this a pbf run directory?)");
     std::string line;
     if (!std::getline(in, line) || line.empty()) throw IoError(table.file + ": empty file");
     table.names = splitFields(line);

@@ -86,8 +86,8 @@ CaseResult run(const Options& options) {
     }
     plot::Panel drop{"Drop of the centre of mass", "t (s)", "drop y0 - y (m)", {}};
     plot::Panel error{"Drop minus the closed form g t^2 / 2", "t (s)", "error (mm)", {}};
-    plot::Panel height{"Height of the block (s_corr pushes its surface out)", "t (s)",
-                       "extent in y (m)", {}};
+    plot::Panel height{
+        "Height of the block (s_corr pushes its surface out)", "t (s)", "extent in y (m)", {}};
     std::vector<double> closed, finalErrors;
     for (double t : falls.front().t) closed.push_back(0.5 * g * t * t);
     drop.series.push_back(detail::record(result, "closed form g t^2/2", "t_s", falls.front().t,
@@ -99,7 +99,8 @@ CaseResult run(const Options& options) {
         const std::string label = fmt::format("dt = 1/{:.0f} s", 1.0 / f.dt);
         drop.series.push_back(detail::record(result, label, "t_s", f.t, "drop_m", f.drop));
         error.series.push_back(detail::record(result, label + " error", "t_s", f.t, "error_mm", e));
-        height.series.push_back(detail::record(result, label + " height", "t_s", f.t, "m", f.height));
+        height.series.push_back(
+            detail::record(result, label + " height", "t_s", f.t, "m", f.height));
         finalErrors.push_back(f.drop.back() - 0.5 * g * kDuration * kDuration);
     }
     result.figure = {result.title, {drop, error, height}, 2};

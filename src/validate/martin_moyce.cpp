@@ -122,9 +122,9 @@ std::size_t heightRows() {
 }
 
 struct Comparison {
-    double delay = 0.0;        // fitted gate delay, in T
-    double frontRms = 0.0;     // Z, after the delay
-    double frontSpeed = 0.0;   // dZ/dT fitted over T >= 2.2
+    double delay = 0.0;             // fitted gate delay, in T
+    double frontRms = 0.0;          // Z, after the delay
+    double frontSpeed = 0.0;        // dZ/dT fitted over T >= 2.2
     double heightRms = 0.0;         // H, as simulated
     double heightRmsDelayed = 0.0;  // H, after the front's delay (in tau: dT / n)
     std::vector<double> frontAtTable;
@@ -173,13 +173,19 @@ CaseResult run(const Options& options) {
     const std::vector<double> tableTau(mm::kHeightTau.begin(), mm::kHeightTau.end());
     const std::vector<double> tableH(mm::kHeightH.begin(), mm::kHeightH.end());
     plot::Panel front{"Surge front (simulation delayed by the fitted gate delay)",
-                      "T = n t sqrt(g/a)", "Z = x / a", {}};
-    plot::Panel height{"Residual column at the back wall (as simulated)", "tau = t sqrt(g/a)",
-                       "H = eta / (n^2 a)", {}};
-    plot::Panel convergence{"Convergence: distance from the experiment", "particles across a",
-                            "RMS difference", {}};
-    plot::Panel raw{"Surge front as simulated (instant release, no delay)", "T = n t sqrt(g/a)",
-                    "Z = x / a", {}};
+                      "T = n t sqrt(g/a)",
+                      "Z = x / a",
+                      {}};
+    plot::Panel height{"Residual column at the back wall (as simulated)",
+                       "tau = t sqrt(g/a)",
+                       "H = eta / (n^2 a)",
+                       {}};
+    plot::Panel convergence{
+        "Convergence: distance from the experiment", "particles across a", "RMS difference", {}};
+    plot::Panel raw{"Surge front as simulated (instant release, no delay)",
+                    "T = n t sqrt(g/a)",
+                    "Z = x / a",
+                    {}};
     front.series.push_back(detail::record(result, "Martin & Moyce Table 2", "T", tableT, "Z",
                                           tableZ, plot::Style::Points));
     height.series.push_back(detail::record(result, "Martin & Moyce Table 6", "tau", tableTau, "H",
@@ -197,8 +203,8 @@ CaseResult run(const Options& options) {
             Z.push_back(c.Z[i]);
         }
         front.series.push_back(detail::record(result, label + " front", "T_delayed", T, "Z", Z));
-        height.series.push_back(detail::record(
-            result, fmt::format("{} across a height", c.across), "tau", c.tau, "H", c.H));
+        height.series.push_back(detail::record(result, fmt::format("{} across a height", c.across),
+                                               "tau", c.tau, "H", c.H));
         raw.series.push_back({fmt::format("{} across a", c.across), c.T, c.Z, plot::Style::Line});
         across.push_back(c.across);
         frontRms.push_back(cmp.frontRms);
@@ -206,8 +212,8 @@ CaseResult run(const Options& options) {
     }
     convergence.series.push_back(detail::record(result, "front Z RMS", "particles_across", across,
                                                 "rms", frontRms, plot::Style::Line));
-    convergence.series.push_back(detail::record(result, "height H RMS", "particles_across",
-                                                across, "rms", heightRms, plot::Style::Line));
+    convergence.series.push_back(detail::record(result, "height H RMS", "particles_across", across,
+                                                "rms", heightRms, plot::Style::Line));
     result.figure = {result.title, {front, height, raw, convergence}, 2};
 
     const Comparison& fine = comparisons.back();
@@ -241,15 +247,14 @@ CaseResult run(const Options& options) {
     result.checks.push_back(
         {fmt::format("front change {} -> {} across a (largest over Table 2)",
                      runs[runs.size() - 2].across, runs.back().across),
-         *std::max_element(change.begin(), change.end()), 0.0, mark / 2, "",
-         "self-convergence",
+         *std::max_element(change.begin(), change.end()), 0.0, mark / 2, "", "self-convergence",
          "doubling the resolution moves the front by less than the experiment resolves"});
     std::string perResolution;
     for (std::size_t k = 0; k < runs.size(); ++k)
-        perResolution += fmt::format(
-            "| {} | {} | {:.2f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |\n", runs[k].across,
-            runs[k].particles, comparisons[k].delay, comparisons[k].frontRms,
-            comparisons[k].frontSpeed, comparisons[k].heightRms, comparisons[k].heightRmsDelayed);
+        perResolution += fmt::format("| {} | {} | {:.2f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} |\n",
+                                     runs[k].across, runs[k].particles, comparisons[k].delay,
+                                     comparisons[k].frontRms, comparisons[k].frontSpeed,
+                                     comparisons[k].heightRms, comparisons[k].heightRmsDelayed);
     result.notes = fmt::format(
         "A column a = 0.05715 m wide and 2a high in a tank 14a long, 4 particle layers deep "
         "between free-slip walls (a two-dimensional flow, as the experiment's channel), "

@@ -42,7 +42,8 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y) {
     }
     Line line;
     const double d = n * sxx - sx * sx;
-    if (x.size() < 2 || d == 0.0) return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+    if (x.size() < 2 || d == 0.0)
+        return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
     line.slope = (n * sxy - sx * sy) / d;
     line.intercept = (sy - line.slope * sx) / n;
     return line;

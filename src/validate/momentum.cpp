@@ -52,7 +52,8 @@ CaseResult run(const Options& options) {
     // Unequal blocks, unequal speeds, offset in y: P is not zero and the
     // collision shears as well as compresses.
     def.fluidBlocks.push_back({{{-0.3f, -0.1f, -0.1f}, {-0.06f, 0.1f, 0.1f}}, {1.5f, 0.0f, 0.0f}});
-    def.fluidBlocks.push_back({{{0.06f, -0.02f, -0.06f}, {0.2f, 0.14f, 0.06f}}, {-1.0f, 0.3f, 0.1f}});
+    def.fluidBlocks.push_back(
+        {{{0.06f, -0.02f, -0.06f}, {0.2f, 0.14f, 0.06f}}, {-1.0f, 0.3f, 0.1f}});
     def.fps = 60.0f;
     World world(def);
     const double duration = 0.5;  // s: the blocks meet at ~0.05 s and drift < 0.5 m
@@ -79,19 +80,19 @@ CaseResult run(const Options& options) {
         rhoErr.push_back(100.0 * r.state.maxDensityError);
     }
     if (options.progress)
-        options.progress(fmt::format("momentum: {} particles, {:.2f} s", world.particleCount(),
-                                     duration));
-    plot::Panel momentum{"Largest change of a momentum component / sum m|v|", "t (s)",
-                         "relative change", {}};
-    momentum.series.push_back(detail::record(result, "|P(t) - P(0)| / sum m|v|", "t_s", t,
-                                             "relative", dp));
+        options.progress(
+            fmt::format("momentum: {} particles, {:.2f} s", world.particleCount(), duration));
+    plot::Panel momentum{
+        "Largest change of a momentum component / sum m|v|", "t (s)", "relative change", {}};
+    momentum.series.push_back(
+        detail::record(result, "|P(t) - P(0)| / sum m|v|", "t_s", t, "relative", dp));
     momentum.logY = false;
     plot::Panel centre{"Centre of mass minus x_c(0) + P t / M", "t (s)", "distance (mm)", {}};
     centre.series.push_back(detail::record(result, "centre of mass", "t_s", t, "mm", dc));
     plot::Panel energy{"Kinetic energy (the collision is inelastic)", "t (s)", "energy (J)", {}};
     energy.series.push_back(detail::record(result, "kinetic energy", "t_s", t, "J", ke));
-    plot::Panel compression{"Largest compression (the collision is real)", "t (s)",
-                            "max density error (%)", {}};
+    plot::Panel compression{
+        "Largest compression (the collision is real)", "t (s)", "max density error (%)", {}};
     compression.series.push_back(
         detail::record(result, "max density error", "t_s", t, "percent", rhoErr));
     result.figure = {result.title, {momentum, centre, energy, compression}, 2};
@@ -121,8 +122,7 @@ CaseResult run(const Options& options) {
         "inelastic, as water is. Angular momentum is not among the checks: XSPH's pair term acts "
         "along v_j - v_i, not along the line between the particles, so PBF with XSPH does not "
         "conserve it exactly.",
-        world.particleCount(), def.simulation.particleRadius, duration, start.kinetic,
-        ke.back());
+        world.particleCount(), def.simulation.particleRadius, duration, start.kinetic, ke.back());
     return result;
 }
 

@@ -112,8 +112,8 @@ std::string Check::limit() const {
 }
 
 bool CaseResult::passed() const {
-    return !checks.empty() && std::all_of(checks.begin(), checks.end(),
-                                          [](const Check& c) { return c.passed(); });
+    return !checks.empty() &&
+           std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed(); });
 }
 
 std::string formatTable(const std::vector<CaseResult>& results) {
@@ -123,9 +123,9 @@ std::string formatTable(const std::vector<CaseResult>& results) {
     std::vector<Row> rows{{{"case", "metric", "value", "reference", "tolerance", "result"}}};
     for (const CaseResult& r : results)
         for (const Check& c : r.checks)
-            rows.push_back({{r.name, c.metric, withUnit(c.value, c.unit),
-                             withUnit(c.reference, c.unit), c.limit(),
-                             c.passed() ? "pass" : "FAIL"}});
+            rows.push_back(
+                {{r.name, c.metric, withUnit(c.value, c.unit), withUnit(c.reference, c.unit),
+                  c.limit(), c.passed() ? "pass" : "FAIL"}});
     std::size_t width[6] = {};
     for (const Row& row : rows)
         for (int k = 0; k < 6; ++k) width[k] = std::max(width[k], row.cells[k].size());
@@ -134,8 +134,7 @@ std::string formatTable(const std::vector<CaseResult>& results) {
         for (int k = 0; k < 6; ++k)
             out << fmt::format("{:<{}}", rows[i].cells[k], width[k]) << (k < 5 ? "  " : "\n");
         if (i == 0) {
-            for (int k = 0; k < 6; ++k)
-                out << std::string(width[k], '-') << (k < 5 ? "  " : "\n");
+            for (int k = 0; k < 6; ++k) out << std::string(width[k], '-') << (k < 5 ? "  " : "\n");
         }
     }
     return out.str();

@@ -21,11 +21,11 @@
 namespace pbf::validation {
 namespace {
 
-constexpr float kSide = 0.2f;       // m
-constexpr double kSpeed = 0.2;      // U, m/s
-constexpr double kDuration = 2.0;   // s
-constexpr double kFitStart = 0.3;   // s: the first frames build the pressure field
-constexpr int kSubsteps = 4;        // fixed: dt = 1/240 s (XSPH's strength depends on dt)
+constexpr float kSide = 0.2f;      // m
+constexpr double kSpeed = 0.2;     // U, m/s
+constexpr double kDuration = 2.0;  // s
+constexpr double kFitStart = 0.3;  // s: the first frames build the pressure field
+constexpr int kSubsteps = 4;       // fixed: dt = 1/240 s (XSPH's strength depends on dt)
 constexpr float kFps = 60.0f;
 
 struct Decay {
@@ -33,8 +33,9 @@ struct Decay {
     float viscosity = 0.0f;  // XSPH c
     std::size_t particles = 0;
     std::vector<double> t, amplitude, shape;  // mode amplitude (m/s), correlation with the mode
-    double rateEarly = 0.0, rateLate = 0.0;  // 1/s, of the amplitude, first / second half of the fit
-    double nu = 0.0;                          // m^2/s over the whole fit
+    double rateEarly = 0.0,
+           rateLate = 0.0;  // 1/s, of the amplitude, first / second half of the fit
+    double nu = 0.0;        // m^2/s over the whole fit
 };
 
 Decay decay(float radius, float viscosity, const Options& options) {
@@ -107,8 +108,8 @@ Decay decay(float radius, float viscosity, const Options& options) {
     d.rateLate = -detail::fitLine(t2, l2).slope;
     d.nu = -detail::fitLine(ta, la).slope / (2.0 * k * k);
     if (options.progress)
-        options.progress(fmt::format("taylor_green: radius {} m, c = {}: nu = {:.3e} m^2/s",
-                                     radius, viscosity, d.nu));
+        options.progress(fmt::format("taylor_green: radius {} m, c = {}: nu = {:.3e} m^2/s", radius,
+                                     viscosity, d.nu));
     return d;
 }
 
@@ -144,15 +145,20 @@ CaseResult run(const Options& options) {
     const Decay high = decay(radii.back(), cHigh, options);
 
     plot::Panel amplitude{"Mode amplitude (log scale): a straight line is exponential decay",
-                          "t (s)", "amplitude (m/s)", {}};
+                          "t (s)",
+                          "amplitude (m/s)",
+                          {}};
     amplitude.logY = true;
-    plot::Panel shape{"Correlation of the velocity field with the Taylor-Green mode", "t (s)",
-                      "correlation", {}};
+    plot::Panel shape{
+        "Correlation of the velocity field with the Taylor-Green mode", "t (s)", "correlation", {}};
     plot::Panel viscosity{"Effective kinematic viscosity nu = rate / (2 k^2)",
-                          "particle radius (mm)", "nu (m^2/s)", {}};
+                          "particle radius (mm)",
+                          "nu (m^2/s)",
+                          {}};
     std::vector<double> radiusMm, nus;
     for (const Decay& d : runs) {
-        const std::string label = fmt::format("radius {:.3g} mm, c = {}", 1e3 * d.radius, d.viscosity);
+        const std::string label =
+            fmt::format("radius {:.3g} mm, c = {}", 1e3 * d.radius, d.viscosity);
         amplitude.series.push_back(
             detail::record(result, label + " amplitude", "t_s", d.t, "m_per_s", d.amplitude));
         shape.series.push_back(
@@ -165,9 +171,8 @@ CaseResult run(const Options& options) {
                                               "m_per_s", high.amplitude, plot::Style::Dashed));
     shape.series.push_back(detail::record(result, highLabel + " correlation", "t_s", high.t,
                                           "correlation", high.shape, plot::Style::Dashed));
-    viscosity.series.push_back(detail::record(result, fmt::format("c = {}", cDefault),
-                                              "radius_mm", radiusMm, "nu_m2_per_s", nus,
-                                              plot::Style::Points));
+    viscosity.series.push_back(detail::record(result, fmt::format("c = {}", cDefault), "radius_mm",
+                                              radiusMm, "nu_m2_per_s", nus, plot::Style::Points));
     viscosity.series.push_back(detail::record(result, fmt::format("c = {}", cHigh), "radius_mm",
                                               {1e3 * high.radius}, "nu_m2_per_s", {high.nu},
                                               plot::Style::Points));
@@ -184,7 +189,8 @@ CaseResult run(const Options& options) {
         {"correlation with the mode at t = 2 s" + at, fine.shape.back(), 1.0, 0.05, "",
          "exact solution: the shape does not change",
          "5 %: the noise of particle velocities and the walls' truncated kernels"});
-    const double predicted = xsphViscosity(cHigh, high.radius) - xsphViscosity(cDefault, high.radius);
+    const double predicted =
+        xsphViscosity(cHigh, high.radius) - xsphViscosity(cDefault, high.radius);
     result.checks.push_back(
         {fmt::format("nu(c = {}) - nu(c = {}) / XSPH's continuum estimate", cHigh, cDefault),
          (high.nu - fine.nu) / predicted, 1.0, 0.5, "",
@@ -195,9 +201,9 @@ CaseResult run(const Options& options) {
          Check::Bound::AtLeast});
     std::string rows;
     for (const Decay& d : runs)
-        rows += fmt::format("| {:.3g} mm | {} | {} | {:.3e} | {:.3f} | {:.3f} |\n", 1e3 * d.radius,
-                            d.particles, d.viscosity, d.nu, d.rateLate / d.rateEarly,
-                            d.shape.back());
+        rows +=
+            fmt::format("| {:.3g} mm | {} | {} | {:.3e} | {:.3f} | {:.3f} |\n", 1e3 * d.radius,
+                        d.particles, d.viscosity, d.nu, d.rateLate / d.rateEarly, d.shape.back());
     rows += fmt::format("| {:.3g} mm | {} | {} | {:.3e} | {:.3f} | {:.3f} |\n", 1e3 * high.radius,
                         high.particles, high.viscosity, high.nu, high.rateLate / high.rateEarly,
                         high.shape.back());

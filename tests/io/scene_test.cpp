@@ -86,11 +86,11 @@ TEST(Scene, RenderOutputFields) {
     EXPECT_EQ(plain.output.render.width, 960);
     EXPECT_EQ(plain.output.render.height, 540);
     EXPECT_FALSE(plain.output.render.cameraPosition.has_value());
-    const pbf::Scene scene = parseScene(
-        smallSceneJson(R"("output": {"render": "liquid", "render_color": "density",
+    const pbf::Scene scene =
+        parseScene(smallSceneJson(R"("output": {"render": "liquid", "render_color": "density",
             "image_size": [320, 200], "camera_position": [1, 2, 3], "camera_target": [0, 0, 0],
             "camera_fov": 30})"),
-        "small.json");
+                   "small.json");
     const pbf::RenderOutput& r = scene.output.render;
     EXPECT_EQ(r.style, "liquid");
     EXPECT_EQ(r.color, "density");

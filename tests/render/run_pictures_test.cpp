@@ -118,9 +118,8 @@ TEST_F(DefaultSceneRun, PosterShowsTheWater) {
         background = loadPng(emptyDir / imageFileName(0));
     }
     fs::remove_all(emptyDir);
-    const image_check::Rect inner =
-        image_check::projectBox(settings.camera, scene_.fluidBlocks.front().box, 0.4f, 0,
-                                settings.width, settings.height);
+    const image_check::Rect inner = image_check::projectBox(
+        settings.camera, scene_.fluidBlocks.front().box, 0.4f, 0, settings.width, settings.height);
     ASSERT_GT(inner.x1 - inner.x0, 20);
     ASSERT_GT(inner.y1 - inner.y0, 20);
     int water = 0, total = 0;

@@ -46,7 +46,7 @@ class FrameImages {
 
     const ImageSettings& settings() const { return settings_; }
     const std::filesystem::path& directory() const { return directory_; }
-    std::string rendererName() const;  // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string rendererName() const;            // e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
     double seconds() const { return seconds_; }  // wall time spent in write()
 
   private:
