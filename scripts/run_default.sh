@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds pbf and runs the default scene (a dam break):
-# PLY frames, stats.csv and summary.json land in out/dam_break/.
+# Installs dependencies, builds pbf and runs the default scene (a dam break).
+# In out/dam_break/: PLY frames, stats.csv, summary.json, images/ (a PNG per
+# frame, rendered while simulating), dam_break.mp4 (ffmpeg), poster.png and
+# stats.png (the statistics plotted with matplotlib).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

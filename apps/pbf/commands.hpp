@@ -15,5 +15,7 @@ std::function<int()> addViewCommand(CLI::App& app);
 std::function<int()> addRenderCommand(CLI::App& app);
 #endif
 std::function<int()> addMeshCommand(CLI::App& app);
+std::function<int()> addPlotCommand(CLI::App& app);
+std::function<int()> addValidateCommand(CLI::App& app);
 
 }  // namespace pbf::cli

@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
     const auto render = pbf::cli::addRenderCommand(app);
 #endif
     const auto mesh = pbf::cli::addMeshCommand(app);
+    const auto plot = pbf::cli::addPlotCommand(app);
+    const auto validate = pbf::cli::addValidateCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -30,6 +32,8 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return render();
 #endif
         if (app.got_subcommand("mesh")) return mesh();
+        if (app.got_subcommand("plot")) return plot();
+        if (app.got_subcommand("validate")) return validate();
     } catch (const std::exception& e) {
         pbf::cli::printError(e.what());
         return 1;

@@ -17,15 +17,14 @@
 #include "console.hpp"
 #include "pbf/io.hpp"
 #include "pbf/render/camera.hpp"
-#include "pbf/render/headless.hpp"
-#include "pbf/render/overlay.hpp"
+#include "pbf/render/frame_images.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/render/solid_mesh.hpp"
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::cli {
 namespace {
@@ -38,13 +37,14 @@ struct RenderArguments {
     std::string plyDirectory;
     std::string out;
     int frames = -1;
-    int width = 960;
-    int height = 540;
+    // Unset: the scene's output.* image fields (docs/scenes.md), else their defaults.
+    std::optional<int> width;
+    std::optional<int> height;
     std::string cameraPosition;
     std::string cameraTarget;
-    float fov = 40.0f;
-    std::string style = "spheres";
-    std::string color = "speed";
+    std::optional<float> fov;
+    std::optional<std::string> style;
+    std::optional<std::string> color;
     std::string range;
     bool noVideo = false;
     bool noBox = false;
@@ -97,31 +97,38 @@ Aabb boundingBox(const ParticleFrame& frame) {
     return box;
 }
 
+// The command's image options written into the scene's output.render, so
+// that one function (render::imageSettingsFor) turns either into images.
+void applyImageOptions(const RenderArguments& args, RenderOutput& render) {
+    if (args.style) render.style = *args.style;
+    if (render.style.empty()) render.style = "spheres";
+    if (args.color) render.color = *args.color;
+    if (args.width) render.width = *args.width;
+    if (args.height) render.height = *args.height;
+    if (args.fov) render.fov = *args.fov;
+    if (!args.cameraPosition.empty())
+        render.cameraPosition = parseVec3("--camera-position", args.cameraPosition);
+    if (!args.cameraTarget.empty())
+        render.cameraTarget = parseVec3("--camera-target", args.cameraTarget);
+}
+
 int runRender(const RenderArguments& args) {
     if (args.scene.empty() && args.plyDirectory.empty())
         throw std::invalid_argument(
             "give a scene file to simulate, or --ply DIR (a directory of PLY frames)");
     const bool simulate = args.plyDirectory.empty();
-    if (const std::string problem = render::validateResolution(args.width, args.height);
+    if (const std::string problem =
+            render::validateResolution(args.width.value_or(960), args.height.value_or(540));
         !problem.empty())
         throw std::invalid_argument(problem);
-    // Checked before frameBox uses it.
-    if (!(args.fov >= 1.0f && args.fov <= 170.0f))
+    if (args.fov && !(*args.fov >= 1.0f && *args.fov <= 170.0f))
         throw std::invalid_argument(
-            fmt::format("camera.fov: must be in [1, 170] degrees, got {}", args.fov));
+            fmt::format("camera.fov: must be in [1, 170] degrees, got {}", *args.fov));
+    if (args.style) render::parseStyle(*args.style);
+    if (args.color) render::parseColorMode(*args.color);
 
-    render::RenderSettings settings;
-    settings.style = render::parseStyle(args.style);
-    settings.color = render::parseColorMode(args.color);
-    settings.drawBox = !args.noBox;
-
-    // The scene gives domain, radius and colour range; PLY frames may come without one.
-    std::optional<Scene> scene;
-    if (!args.scene.empty()) {
-        std::vector<SceneOverride> overrides;
-        for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
-        scene = loadScene(args.scene, overrides);
-    }
+    // The scene gives domain, radius, solids, colour range and the image
+    // fields of its output; PLY frames may come without one.
     std::vector<fs::path> plyFiles;
     ParticleFrame firstFrame;
     if (!args.plyDirectory.empty()) {
@@ -130,74 +137,64 @@ int runRender(const RenderArguments& args) {
             plyFiles.resize(std::size_t(args.frames));
         firstFrame = readParticlesPly(plyFiles.front());
     }
-    const SimulationParams params = scene ? scene->simulation : SimulationParams{};
-    const Aabb domain = scene ? params.domain : boundingBox(firstFrame);
-    float radius = params.particleRadius;
-    if (!scene) radius = 0.01f;  // the default lattice radius; PLY files carry no radius
-    render::setDefaultRange(settings, scene ? params : SimulationParams{});
+    Scene scene;
+    const bool haveScene = !args.scene.empty();
+    if (haveScene) {
+        std::vector<SceneOverride> overrides;
+        for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
+        scene = loadScene(args.scene, overrides);
+    } else {
+        scene.name = fs::path(args.plyDirectory).filename().string();
+        scene.simulation.domain = boundingBox(firstFrame);
+        scene.simulation.particleRadius = 0.01f;  // the default lattice radius; PLY carries none
+    }
+    applyImageOptions(args, scene.output.render);
+    render::ImageSettings images = render::imageSettingsFor(scene);
+    images.look.drawBox = !args.noBox;
+    images.colorBar = !args.noColorBar;
     if (!args.range.empty()) {
         std::stringstream in(args.range);
         char comma = 0;
-        if (!(in >> settings.rangeMin >> comma >> settings.rangeMax) || comma != ',' || !in.eof() ||
-            !(settings.rangeMax > settings.rangeMin))
+        render::RenderSettings& look = images.look;
+        if (!(in >> look.rangeMin >> comma >> look.rangeMax) || comma != ',' || !in.eof() ||
+            !(look.rangeMax > look.rangeMin))
             throw CLI::ValidationError("--range",
                                        "expected MIN,MAX with MIN < MAX, got '" + args.range + "'");
     }
 
-    render::Camera camera =
-        render::frameBox(domain, float(args.width) / float(args.height), args.fov);
-    if (!args.cameraPosition.empty())
-        camera.position = parseVec3("--camera-position", args.cameraPosition);
-    if (!args.cameraTarget.empty()) camera.target = parseVec3("--camera-target", args.cameraTarget);
-    camera.fovY = args.fov;
-    if (const std::string problem = render::validateCamera(camera); !problem.empty())
-        throw std::invalid_argument(problem);
-
-    const std::string name = scene ? scene->name : fs::path(args.plyDirectory).filename().string();
+    const std::string& name = scene.name;
+    const std::string style = scene.output.render.style;
     const fs::path out =
         !args.out.empty()
             ? fs::path(args.out)
-            : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, args.style);
-    fs::create_directories(out);
-
-    const int total = simulate ? (args.frames >= 0 ? args.frames : scene->output.frames) + 1
+            : fs::path("out") / fmt::format("{}_{}", name.empty() ? "frames" : name, style);
+    const int total = simulate ? (args.frames >= 0 ? args.frames : scene.output.frames) + 1
                                : int(plyFiles.size());
-    const double fps = scene ? scene->fps : 30.0;
+    const double fps = haveScene ? scene.fps : 30.0;
     if (args.threads > 0) setThreadCount(args.threads);
 
-    render::HeadlessContext context;
-    render::SceneRenderer renderer;
-    renderer.setDomain(domain);
-    renderer.setParticleRadius(radius);
-    if (scene) renderer.setSolids(render::tessellateSolids(*scene));  // also for PLY frames
-    render::OffscreenTarget target(args.width, args.height);
-    std::unique_ptr<render::ColorBarOverlay> colorBar;
-    if (!args.noColorBar) colorBar = std::make_unique<render::ColorBarOverlay>();
+    // Solids are drawn from the scene, also for PLY frames.
+    const render::SolidMesh solids =
+        haveScene ? render::tessellateSolids(scene) : render::SolidMesh{};
+    render::FrameImages writer(images, scene.simulation.domain, scene.simulation.particleRadius,
+                               solids, out);
     if (!args.quiet)
         fmt::print(stderr,
                    "pbf render: {} frames of {}, {}x{}, {} look, colour by {}, on {} -> {}\n",
-                   total, name, args.width, args.height, args.style, args.color,
-                   context.rendererName(), out.string());
+                   total, name, images.width, images.height, style, scene.output.render.color,
+                   writer.rendererName(), out.string());
 
     ProgressBar progress("rendering", total, !args.quiet);
-    double renderSeconds = 0.0;
-    std::size_t particleCount = 0;
     const auto renderFrame = [&](int frame, const render::RenderParticles& particles) {
-        const auto t0 = Clock::now();
-        renderer.upload(particles);
-        renderer.render(target.framebuffer(), args.width, args.height, camera, settings);
-        if (colorBar) colorBar->draw(target.framebuffer(), args.width, args.height, settings);
-        render::writePng(out / fmt::format("frame_{:05d}.png", frame), target.read());
-        renderSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        particleCount = particles.count();
-        progress.update(frame + 1, fmt::format("{} particles", particleCount));
+        writer.write(frame, particles);
+        progress.update(frame + 1, fmt::format("{} particles", particles.count()));
     };
     int status = 0;
     double simulateSeconds = 0.0;
     if (simulate) {
         // `pbf run`'s loop with an image instead of a PLY file per frame
         // (stats.csv and summary.json go beside the images).
-        Scene run = *scene;
+        Scene run = scene;
         run.output.directory = out.string();
         run.output.frames = total - 1;
         run.output.writeParticles = false;
@@ -206,11 +203,12 @@ int runRender(const RenderArguments& args) {
         run.output.writeCheckpoints = false;
         RunOptions options;
         options.writeFrame = [&](int frame, const World& world) {
-            renderFrame(frame, render::packParticles(world.particles(), settings.color));
+            renderFrame(frame, render::packParticles(world.particles(), images.look.color));
         };
         const auto t0 = Clock::now();
         const RunSummary summary = runScene(run, options);
-        simulateSeconds = std::chrono::duration<double>(Clock::now() - t0).count() - renderSeconds;
+        simulateSeconds =
+            std::chrono::duration<double>(Clock::now() - t0).count() - writer.seconds();
         if (summary.error) {
             progress.finish();
             printError(summary.error->message);
@@ -222,7 +220,7 @@ int runRender(const RenderArguments& args) {
             const ParticleFrame ply =
                 frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]);
             simulateSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
-            renderFrame(frame, render::packParticles(ply, settings.color));
+            renderFrame(frame, render::packParticles(ply, images.look.color));
         }
     }
     progress.finish();
@@ -248,9 +246,9 @@ int runRender(const RenderArguments& args) {
     fmt::print(
         "pbf render: {} frames {}x{} ({}) -> {}/frame_*.png, {}; {} {:.2f} s, "
         "render {:.2f} s ({:.1f} ms per frame, PNG writing included)\n",
-        total, args.width, args.height, args.style, out.string(), videoText,
-        simulate ? "simulate" : "read PLY", simulateSeconds, renderSeconds,
-        1e3 * renderSeconds / total);
+        total, images.width, images.height, style, out.string(), videoText,
+        simulate ? "simulate" : "read PLY", simulateSeconds, writer.seconds(),
+        1e3 * writer.seconds() / total);
     return status;
 }
 
@@ -271,20 +269,24 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Scene: frames to simulate after the initial one (default: output.frames); "
                     "PLY: at most this many files")
         ->check(CLI::Range(0, 1000000));
-    cmd->add_option("--width", args->width, "Image width in pixels [16, 8192]")
-        ->capture_default_str();
-    cmd->add_option("--height", args->height, "Image height in pixels [16, 8192]")
-        ->capture_default_str();
+    cmd->add_option(
+        "--width", args->width,
+        "Image width in pixels [16, 8192] (default: the scene's output.image_size, 960)");
+    cmd->add_option("--height", args->height,
+                    "Image height in pixels [16, 8192] (default: the scene's, 540)");
     cmd->add_option("--camera-position", args->cameraPosition,
-                    "Camera position X,Y,Z in metres (default: framing the domain)");
+                    "Camera position X,Y,Z in metres (default: the scene's "
+                    "output.camera_position, else framing the domain)");
     cmd->add_option("--camera-target", args->cameraTarget,
-                    "Point the camera looks at, X,Y,Z (default: domain centre)");
-    cmd->add_option("--fov", args->fov, "Vertical field of view in degrees [1, 170]")
-        ->capture_default_str();
-    cmd->add_option("--style", args->style, "spheres (impostors) or liquid (screen-space fluid)")
-        ->capture_default_str();
-    cmd->add_option("--color", args->color, "Sphere colour: speed, density or flat")
-        ->capture_default_str();
+                    "Point the camera looks at, X,Y,Z (default: the scene's "
+                    "output.camera_target, else the domain centre)");
+    cmd->add_option("--fov", args->fov,
+                    "Vertical field of view in degrees [1, 170] (default: the scene's, 40)");
+    cmd->add_option("--style", args->style,
+                    "spheres (impostors) or liquid (screen-space fluid) (default: the scene's "
+                    "output.render, else spheres)");
+    cmd->add_option("--color", args->color,
+                    "Sphere colour: speed, density or flat (default: the scene's, speed)");
     cmd->add_option("--range", args->range,
                     "Colour map range MIN,MAX (m/s or kg/m^3; default from the scene)");
     cmd->add_flag("--no-video", args->noVideo, "Only PNG frames, no MP4");

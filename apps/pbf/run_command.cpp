@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "pbf/scene.hpp"
 #include "pbf/surface/vdb_points.hpp"
 #include "pbf/threading.hpp"
+#include "run_images.hpp"
 #include "stop_signals.hpp"
 
 namespace pbf::cli {
@@ -32,6 +35,8 @@ struct RunArguments {
     bool vtk = false;
     bool mesh = false;
     bool resume = false;
+    std::optional<std::string> render;  // --render [spheres|liquid|none]
+    bool noPlot = false;
     std::string device = "cpu";
     int checkpointEvery = -1;         // -1: the scene's output.checkpoint_every
     double checkpointSeconds = -1.0;  // -1: the scene's output.checkpoint_seconds
@@ -44,6 +49,30 @@ std::string resumeCommand(const RunArguments& args, const Scene& scene) {
     command += " --out " + scene.output.directory;
     if (args.frames > 0) command += " --frames " + std::to_string(args.frames);
     return command + " --resume";
+}
+
+// Video, poster and the statistics plot at the end of a run; returns what was
+// made for the summary line. Missing helpers (ffmpeg, matplotlib) are warned
+// about and leave the exit status alone.
+std::string finishPictures(const Scene& scene, RunImages* images, bool plot,
+                           const std::function<void(const std::string&)>& warn) {
+    const std::filesystem::path dir = scene.output.directory;
+    std::string made;
+    try {
+        const StatsTable stats = readStatsCsv(dir / "stats.csv");
+        if (images) made = images->finish(stats);
+        if (plot) {
+            const plot::Result r = plotRunStatistics(dir, dir / "stats.png");
+            if (r.drawn)
+                made += (made.empty() ? "" : ", ") + std::string("plot ") +
+                        (dir / "stats.png").string();
+            else
+                warn("no plot: " + r.message);
+        }
+    } catch (const IoError& e) {
+        warn(std::string("no pictures: ") + e.what());
+    }
+    return made;
 }
 
 int runScene(const RunArguments& args) {
@@ -61,6 +90,7 @@ int runScene(const RunArguments& args) {
     if (args.checkpointEvery >= 0) scene.output.checkpointEvery = args.checkpointEvery;
     if (args.checkpointSeconds >= 0.0)
         scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
+    if (args.render) scene.output.render.style = *args.render == "none" ? "" : *args.render;
     if (args.threads > 0) setThreadCount(args.threads);
 
     const std::size_t particles = countParticles(scene);
@@ -86,12 +116,19 @@ int runScene(const RunArguments& args) {
             fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n",
                        e.discSize(), e.rate());
     };
-    if (scene.output.writeVdbPoints)
-        options.writeFrame = [&](int frame, const World& world) {
-            surface::writeParticlesVdb(
-                std::filesystem::path(scene.output.directory) / fmt::format("frame_{:05d}.vdb", frame),
-                world.particles());
-        };
+    // Warnings about optional outputs (images, video, plot): said once each,
+    // never fatal; the simulation's files are the product.
+    const auto warn = [](const std::string& message) {
+        fmt::print(stderr, "pbf: warning: {}\n", message);
+    };
+    const std::unique_ptr<RunImages> images = RunImages::start(scene, warn);
+    options.writeFrame = [&](int frame, const World& world) {
+        if (scene.output.writeVdbPoints)
+            surface::writeParticlesVdb(std::filesystem::path(scene.output.directory) /
+                                           fmt::format("frame_{:05d}.vdb", frame),
+                                       world.particles());
+        if (images) images->write(frame, world);
+    };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
                         fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
@@ -112,6 +149,11 @@ int runScene(const RunArguments& args) {
         return 1;
     }
     progress.finish();
+    // Pictures and plots of what was simulated, also of a run the state
+    // guard stopped (they show how it went bad); not of an interrupted run,
+    // which is continued with --resume and finished then.
+    std::string pictures;
+    if (!s.interrupted) pictures = finishPictures(scene, images.get(), !args.noPlot, warn);
     if (s.error) {
         printError(s.error->message);
         return 4;
@@ -126,10 +168,10 @@ int runScene(const RunArguments& args) {
     }
     fmt::print(
         "pbf run: {} frames, {} particles, {:.3f} s simulated in {:.1f} s wall, {} substeps, "
-        "{:.2f} M particle-steps/s, avg density error {:.2f} %, max {:.2f} %, escaped {} -> {}\n",
+        "{:.2f} M particle-steps/s, avg density error {:.2f} %, max {:.2f} %, escaped {} -> {}{}\n",
         s.frames, s.particles, s.simulatedSeconds, s.wallSeconds, s.substeps,
         s.particleStepsPerSecond * 1e-6, 100.0 * s.averageDensityError, 100.0 * s.maxDensityError,
-        s.maxEscaped, scene.output.directory);
+        s.maxEscaped, scene.output.directory, pictures.empty() ? "" : "; " + pictures);
     if (s.maxInsideSolid > 0) {
         printError(fmt::format("{} particles ended inside a solid (a solver bug): see {}/stats.csv",
                                s.maxInsideSolid, scene.output.directory));
@@ -179,6 +221,26 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--mesh", args->mesh,
                   "Afterwards mesh the frames into DIR/surface (PLY + level-set .vdb, with --vtk "
                   "also .vtp; `pbf mesh` has the options)");
+    run->add_option(
+           "--render", args->render,
+           "Render every frame while simulating: spheres or liquid (RUN_DIR/images/*.png), "
+           "then RUN_DIR/<scene>.mp4 (ffmpeg) and RUN_DIR/poster.png; none turns off the "
+           "scene's output.render")
+        ->expected(0, 1)
+        ->default_str("spheres")
+        ->check(
+            [](const std::string& value) -> std::string {
+                if (value == "spheres" || value == "liquid" || value == "none") return {};
+                // `--render` takes an optional value, so `pbf run --render SCENE`
+                // reads the scene as the look.
+                return "must be spheres, liquid or none, got '" + value + "'" +
+                       (value.ends_with(".json")
+                            ? " (that is a scene: put --render after it, or write --render=spheres)"
+                            : "");
+            },
+            "LOOK");
+    run->add_flag("--no-plot", args->noPlot,
+                  "Do not plot the statistics into RUN_DIR/stats.png at the end (matplotlib)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
     run->add_option("--device", args->device,
                     "Backend: cpu (SIMD, the default) or reference (scalar, slow: for checking)")

@@ -18,7 +18,9 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "pbf/plot.hpp"
 #include "pbf/scene.hpp"
 #include "pbf/world.hpp"
 
@@ -83,5 +85,36 @@ std::string statsCsvHeader();
 std::string statsCsvRow(const FrameReport& report);
 
 std::filesystem::path frameFileName(int frame);  // "frame_00042.ply"
+
+// stats.csv read back: every column of the header by name, one value per row.
+struct StatsTable {
+    std::vector<std::string> names;
+    std::vector<std::vector<double>> columns;  // columns[k] holds the values of names[k]
+    std::size_t rows() const { return columns.empty() ? 0 : columns.front().size(); }
+    // The column called `name`; throws IoError naming the file when there is none.
+    const std::vector<double>& column(const std::string& name) const;
+    std::string file;  // for messages
+};
+
+// Reads a stats.csv; throws IoError naming the file (and line) when it is
+// missing, empty or has a row that is not numbers.
+StatsTable readStatsCsv(const std::filesystem::path& file);
+
+// The statistics of a run against simulated time: density error (average and
+// maximum), kinetic energy, particle count, substeps per frame, step time
+// (and its stages) and maximum speed; `sceneName` goes in the title.
+plot::Figure statsFigure(const StatsTable& stats, const std::string& sceneName);
+
+// The frame a run's poster image shows: the frame with the most kinetic
+// energy (the moment the most is happening: for a dam break, the surge
+// running into the far wall). Only frames for which `eligible` is true
+// count (those with an image); -1 when there is none.
+int posterFrame(const StatsTable& stats, const std::function<bool(int frame)>& eligible);
+
+// Plots RUN_DIR/stats.csv into RUN_DIR/stats.png (scene name from
+// summary.json, else the directory's name); what `pbf plot` and the end of
+// `pbf run` do. Throws IoError for a missing or broken stats.csv.
+plot::Result plotRunStatistics(const std::filesystem::path& runDirectory,
+                               const std::filesystem::path& png);
 
 }  // namespace pbf

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -19,6 +20,21 @@
 #include "pbf/world_def.hpp"
 
 namespace pbf {
+
+// Images of every frame while the run simulates (`pbf run --render`; drawn
+// by the CLI through pbf_render, libpbf has no GL): PNG frames, a video and a
+// poster image. Plain values here; docs/scenes.md has the ranges.
+struct RenderOutput {
+    std::string style;            // "" (none), "spheres" or "liquid"
+    std::string color = "speed";  // spheres: "speed", "density" or "flat"
+    int width = 960;              // pixels, [16, 8192]
+    int height = 540;             // pixels, [16, 8192]
+    // Camera in metres; unset: the view of the README images, framing the domain.
+    std::optional<Vec3> cameraPosition;
+    std::optional<Vec3> cameraTarget;
+    float fov = 40.0f;  // vertical field of view, degrees, [1, 170]
+    bool enabled() const { return !style.empty(); }
+};
 
 // What `pbf run` writes (the frame rate is the definition's fps).
 struct OutputParams {
@@ -35,6 +51,7 @@ struct OutputParams {
     int checkpointEvery = 10;         // frames, [0, 1e6]
     float checkpointSeconds = 60.0f;  // wall-clock seconds, [0, 1e6]
     bool writeCheckpoints = true;     // false: none at all (not even at the end)
+    RenderOutput render;
 };
 
 // A scene file: a world definition (name from the file name unless given,

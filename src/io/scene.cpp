@@ -165,6 +165,44 @@ Vec3 direction(JsonReader& r, const std::string& key, const Vec3& fallback) {
     return v * (1.0f / length(v));
 }
 
+// output.render and the image fields that go with it (RenderOutput). The
+// camera geometry is checked here too, so that a bad camera is reported
+// with the file and field before anything runs.
+void readRenderOutput(JsonReader& o, RenderOutput& render) {
+    const std::string style = o.string("render", "none");
+    if (style != "none" && style != "spheres" && style != "liquid")
+        o.fail("render", "must be \"none\", \"spheres\" or \"liquid\", got \"" + style + "\"");
+    render.style = style == "none" ? std::string() : style;
+    render.color = o.string("render_color", render.color);
+    if (render.color != "speed" && render.color != "density" && render.color != "flat")
+        o.fail("render_color",
+               "must be \"speed\", \"density\" or \"flat\", got \"" + render.color + "\"");
+    if (o.has("image_size")) {
+        const json& size = o.array("image_size");
+        if (size.size() != 2 || !size[0].is_number_integer() || !size[1].is_number_integer())
+            o.fail("image_size", "expected [width, height] in pixels, e.g. [960, 540]");
+        const auto w = size[0].get<long long>(), h = size[1].get<long long>();
+        if (w < 16 || w > 8192 || h < 16 || h > 8192)
+            o.fail("image_size", "each side must be in [16, 8192] pixels, got [" +
+                                     std::to_string(w) + ", " + std::to_string(h) + "]");
+        render.width = static_cast<int>(w);
+        render.height = static_cast<int>(h);
+    }
+    if (o.has("camera_position")) render.cameraPosition = o.vec3("camera_position", {});
+    if (o.has("camera_target")) render.cameraTarget = o.vec3("camera_target", {});
+    render.fov = o.number("camera_fov", render.fov);
+    if (!(render.fov >= 1.0f && render.fov <= 170.0f))
+        o.fail("camera_fov", "must be in [1, 170] degrees, got " + std::to_string(render.fov));
+    if (render.cameraPosition && render.cameraTarget) {
+        const Vec3 view = *render.cameraTarget - *render.cameraPosition;
+        if (!(length(view) > 0.0f))
+            o.fail("camera_position", "must differ from output.camera_target");
+        // The renderer's up axis is +y: a vertical view has no defined roll.
+        if (std::fabs(view.y) > 0.9999f * length(view))
+            o.fail("camera_position", "the view direction must not be vertical (up is +y)");
+    }
+}
+
 void readSolids(JsonReader& root, Scene& scene) {
     const json& solids = root.array("solids");
     const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
@@ -332,6 +370,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         if (!(out.checkpointSeconds >= 0.0f && out.checkpointSeconds <= 1e6f))
             o.fail("checkpoint_seconds", "must be in [0, 1000000] seconds (0: off)");
         out.writeCheckpoints = o.boolean("checkpoints", out.writeCheckpoints);
+        readRenderOutput(o, out.render);
         for (const char* moved : {"max_speed", "max_speed_factor"})
             if (o.has(moved))
                 o.fail(moved, std::string("moved to guard.") + moved +
@@ -348,8 +387,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     readEmitters(root, scene);
     readFluidBlocks(root, scene);
     root.finish();
-    if (const std::string problem = validate(static_cast<const WorldDef&>(scene));
-        !problem.empty())
+    if (const std::string problem = validate(static_cast<const WorldDef&>(scene)); !problem.empty())
         throw SceneError(sourceName + ": " + problem);
     scene.fingerprint = fingerprintOf(std::move(document));
     return scene;

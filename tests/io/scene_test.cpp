@@ -77,6 +77,50 @@ TEST(Scene, OutOfRange) {
                 {"solver.time_step", "adaptive"});
     expectError(smallSceneJson(R"("output": {"fps": 0})"), {"output.fps"});
 }
+// Images while simulating (output.render): defaults, values, and every bad
+// value named by its field. The fingerprint ignores them (they do not change
+// the simulated states, so --resume may add or drop them).
+TEST(Scene, RenderOutputFields) {
+    const pbf::Scene plain = parseScene(smallSceneJson(), "small.json");
+    EXPECT_FALSE(plain.output.render.enabled());
+    EXPECT_EQ(plain.output.render.width, 960);
+    EXPECT_EQ(plain.output.render.height, 540);
+    EXPECT_FALSE(plain.output.render.cameraPosition.has_value());
+    const pbf::Scene scene =
+        parseScene(smallSceneJson(R"("output": {"render": "liquid", "render_color": "density",
+            "image_size": [320, 200], "camera_position": [1, 2, 3], "camera_target": [0, 0, 0],
+            "camera_fov": 30})"),
+                   "small.json");
+    const pbf::RenderOutput& r = scene.output.render;
+    EXPECT_EQ(r.style, "liquid");
+    EXPECT_EQ(r.color, "density");
+    EXPECT_EQ(r.width, 320);
+    EXPECT_EQ(r.height, 200);
+    ASSERT_TRUE(r.cameraPosition && r.cameraTarget);
+    EXPECT_FLOAT_EQ(r.cameraPosition->z, 3.0f);
+    EXPECT_FLOAT_EQ(r.fov, 30.0f);
+    EXPECT_EQ(scene.fingerprint, plain.fingerprint);
+    EXPECT_FALSE(parseScene(smallSceneJson(R"("output": {"render": "none"})"), "s.json")
+                     .output.render.enabled());
+}
+TEST(Scene, BadRenderOutputFields) {
+    expectError(smallSceneJson(R"("output": {"render": "glass"})"), {"output.render", "glass"});
+    expectError(smallSceneJson(R"("output": {"render": true})"), {"output.render", "string"});
+    expectError(smallSceneJson(R"("output": {"render_color": "red"})"), {"output.render_color"});
+    expectError(smallSceneJson(R"("output": {"image_size": [960]})"), {"output.image_size"});
+    expectError(smallSceneJson(R"("output": {"image_size": [960.5, 540]})"),
+                {"output.image_size", "[width, height]"});
+    expectError(smallSceneJson(R"("output": {"image_size": [10000, 540]})"),
+                {"output.image_size", "[16, 8192]"});
+    expectError(smallSceneJson(R"("output": {"camera_fov": 180})"), {"output.camera_fov"});
+    expectError(smallSceneJson(R"("output": {"camera_position": [0, 1]})"),
+                {"output.camera_position", "3 numbers"});
+    expectError(
+        smallSceneJson(R"("output": {"camera_position": [0, 5, 0], "camera_target": [0, 0, 0]})"),
+        {"output.camera_position", "vertical"});
+    expectError(smallSceneJson(R"("output": {"camera": [0, 5, 0]})"),
+                {"output.camera", "unknown key"});
+}
 TEST(Scene, MissingRequiredFields) {
     expectError(R"({"particle_radius": 0.02, "fluid_blocks": []})", {"domain", "missing"});
     expectError(R"({"domain": {"min": [0,0,0], "max": [1,1,1]}, "fluid_blocks": []})",

@@ -3,13 +3,9 @@
 #pragma once
 
 #include <filesystem>
-#include <optional>
 #include <string>
 
 namespace pbf::render {
-
-// The full path of `program` on $PATH, if it is there and executable.
-std::optional<std::filesystem::path> findProgram(const std::string& program);
 
 struct VideoResult {
     bool written = false;
@@ -18,9 +14,9 @@ struct VideoResult {
 };
 
 // Runs `ffmpeg -framerate FPS -i DIR/frame_%05d.png ... OUTPUT` (H.264,
-// yuv420p, even image sides), logging ffmpeg's output to OUTPUT + ".log".
-// Never throws for a missing or failing ffmpeg: the PNG frames stay, and the
-// result says what happened.
+// yuv420p, even image sides). On failure ffmpeg's output goes to
+// OUTPUT + ".log". Never throws for a missing or failing ffmpeg: the PNG
+// frames stay, and the result says what happened.
 VideoResult encodeVideo(const std::filesystem::path& frameDirectory, double fps,
                         const std::filesystem::path& output);
 
