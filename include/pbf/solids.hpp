@@ -54,9 +54,13 @@ struct SolidMotion {
 
 // The solids of a world, each a shape in its own frame placed by a pose.
 // Queries return the nearest solid's distance.
+//
+// A solid may be `coupled` (the surface of a rigid body): the solver then
+// records the momentum its boundary gives the fluid, and the World applies
+// the reaction to the body (docs/architecture.md, "Rigid bodies").
 class SolidSet {
   public:
-    void add(std::unique_ptr<Solid> shape, const SolidMotion& motion = {});
+    void add(std::unique_ptr<Solid> shape, const SolidMotion& motion = {}, bool coupled = false);
     bool empty() const { return shapes_.empty(); }
     std::size_t size() const { return shapes_.size(); }
     const Solid& shape(std::size_t i) const { return *shapes_[i]; }
@@ -65,6 +69,9 @@ class SolidSet {
     void setMotion(std::size_t i, const SolidMotion& motion);
     // Whether any solid has a non-zero velocity.
     bool anyMoving() const { return moving_; }
+    // Whether solid i feels the fluid (a rigid body's surface), and whether any does.
+    bool coupled(std::size_t i) const { return coupled_[i]; }
+    bool anyCoupled() const { return anyCoupled_; }
     // World-space box around solid i's surface.
     const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 
@@ -81,7 +88,9 @@ class SolidSet {
     std::vector<SolidMotion> motions_;
     std::vector<bool> identity_;  // pose is the identity: query the shape directly
     std::vector<Aabb> bounds_;
+    std::vector<bool> coupled_;
     bool moving_ = false;
+    bool anyCoupled_ = false;
 };
 
 // Placement of a mesh: p' = rotation(p * scale) + translation, rotation as

@@ -166,11 +166,13 @@ Aabb worldBounds(const Aabb& local, const Pose& pose) {
 
 }  // namespace
 
-void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion) {
+void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion, bool coupled) {
     shapes_.push_back(std::move(shape));
     motions_.emplace_back();
     identity_.push_back(true);
     bounds_.emplace_back();
+    coupled_.push_back(coupled);
+    anyCoupled_ = anyCoupled_ || coupled;
     setMotion(shapes_.size() - 1, motion);
 }
 
