@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/boundary.hpp"
-#include "core/parallel.hpp"
+#include "core/blocks.hpp"
 #include "pbf/backend.hpp"
 #include "pbf/solids.hpp"
 

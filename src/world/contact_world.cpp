@@ -23,32 +23,30 @@ Vec3 fromBullet(const btVector3& v) {
     return {float(v.x()), float(v.y()), float(v.z())};
 }
 
-// Boxes and cylinders keep their outer size whatever the margin (Bullet
-// moves it inside); it rounds their edges, so it is kept a fraction of the size.
-double innerMargin(const Vec3& halfExtents) {
-    const double smallest = std::min({halfExtents.x, halfExtents.y, halfExtents.z});
-    return std::min(0.04, 0.25 * smallest);
-}
-
 struct BuiltShape {
     std::unique_ptr<btCollisionShape> shape;
     std::unique_ptr<btTriangleMesh> mesh;  // owned triangles of a TriangleMesh shape
 };
 
-BuiltShape build(const ContactShape& s, float margin) {
+// Every shape dilated by `d` (the Minkowski sum with a sphere of radius d:
+// Bullet's convex shapes are a core shape plus a margin sphere, so the core
+// keeps the true size and the margin is d).
+BuiltShape build(const ContactShape& s, float d) {
     using Kind = ContactShape::Kind;
+    const Vec3 grow{d, d, d};
     BuiltShape b;
     switch (s.kind) {
         case Kind::Box:
-            b.shape = std::make_unique<btBoxShape>(toBullet(s.halfExtents));
-            b.shape->setMargin(innerMargin(s.halfExtents));
+            // btBoxShape keeps its outer size when the margin changes.
+            b.shape = std::make_unique<btBoxShape>(toBullet(s.halfExtents + grow));
+            b.shape->setMargin(d);
             break;
         case Kind::Sphere:
-            b.shape = std::make_unique<btSphereShape>(s.radius);  // its margin is its radius
+            b.shape = std::make_unique<btSphereShape>(s.radius + d);  // its margin is its radius
             break;
         case Kind::Cylinder:
-            b.shape = std::make_unique<btCylinderShape>(toBullet(s.halfExtents));
-            b.shape->setMargin(innerMargin(s.halfExtents));
+            b.shape = std::make_unique<btCylinderShape>(toBullet(s.halfExtents + grow));
+            b.shape->setMargin(d);
             break;
         case Kind::ConvexHull: {
             // The hull's corners only: a mesh body's contact shape is its
@@ -62,12 +60,12 @@ BuiltShape build(const ContactShape& s, float margin) {
             auto shape = std::make_unique<btConvexHullShape>();
             for (int k = 0; k < hull.vertices.size(); ++k) shape->addPoint(hull.vertices[k], false);
             shape->recalcLocalAabb();
-            shape->setMargin(margin);
+            shape->setMargin(d);  // added outside the hull
             b.shape = std::move(shape);
             break;
         }
         case Kind::Plane:
-            b.shape = std::make_unique<btStaticPlaneShape>(toBullet(s.normal), s.offset);
+            b.shape = std::make_unique<btStaticPlaneShape>(toBullet(s.normal), s.offset + d);
             break;
         case Kind::TriangleMesh: {
             b.mesh = std::make_unique<btTriangleMesh>();
@@ -75,7 +73,7 @@ BuiltShape build(const ContactShape& s, float margin) {
                 b.mesh->addTriangle(toBullet(s.points[t[0]]), toBullet(s.points[t[1]]),
                                     toBullet(s.points[t[2]]), false);
             b.shape = std::make_unique<btBvhTriangleMeshShape>(b.mesh.get(), true);
-            b.shape->setMargin(margin);
+            b.shape->setMargin(d);  // each triangle's margin: a dilated surface
             break;
         }
     }
@@ -89,6 +87,7 @@ struct ContactWorld::Impl {
     std::vector<BodyCollider> bodies;
     std::vector<BuiltShape> staticShapes;
     std::vector<BuiltShape> bodyShapes;
+    double dilation = 0.0;
     btDefaultCollisionConfiguration configuration;
     // Rebuilt by reset():
     std::unique_ptr<btCollisionDispatcher> dispatcher;
@@ -119,12 +118,14 @@ struct ContactWorld::Impl {
 };
 
 ContactWorld::ContactWorld(std::vector<StaticCollider> statics, std::vector<BodyCollider> bodies,
-                           float margin)
+                           float dilation)
     : impl_(std::make_unique<Impl>()) {
+    impl_->dilation = dilation;
     impl_->statics = std::move(statics);
     impl_->bodies = std::move(bodies);
-    for (const StaticCollider& s : impl_->statics) impl_->staticShapes.push_back(build(s.shape, margin));
-    for (const BodyCollider& b : impl_->bodies) impl_->bodyShapes.push_back(build(b.shape, margin));
+    for (const StaticCollider& s : impl_->statics)
+        impl_->staticShapes.push_back(build(s.shape, dilation));
+    for (const BodyCollider& b : impl_->bodies) impl_->bodyShapes.push_back(build(b.shape, dilation));
 }
 
 ContactWorld::~ContactWorld() = default;
@@ -204,7 +205,7 @@ std::optional<std::string> ContactWorld::firstOverlap(float tolerance) const {
     m.world->performDiscreteCollisionDetection();
     btDispatcher& dispatcher = *m.world->getDispatcher();
     std::optional<std::string> found;
-    double deepest = -tolerance;
+    double deepest = -tolerance - 2.0 * m.dilation;  // between the true surfaces
     for (int i = 0; i < dispatcher.getNumManifolds(); ++i) {
         const btPersistentManifold& manifold = *dispatcher.getManifoldByIndexInternal(i);
         for (int c = 0; c < manifold.getNumContacts(); ++c) {
@@ -214,7 +215,8 @@ std::optional<std::string> ContactWorld::firstOverlap(float tolerance) const {
             const btCollisionObject* a = manifold.getBody0();
             const btCollisionObject* b = manifold.getBody1();
             if (a->getUserIndex() < 0) std::swap(a, b);  // name the body first
-            found = fmt::format("{} overlaps {} by {:.3g} m", m.nameOf(a), m.nameOf(b), -distance);
+            found = fmt::format("{} overlaps {} by {:.3g} m", m.nameOf(a), m.nameOf(b),
+                                -distance - 2.0 * m.dilation);
         }
     }
     return found;

@@ -11,6 +11,13 @@
 // walls of the domain. The fluid's force and torque come in from outside
 // (World, through the backend's reactions); gravity is Bullet's.
 //
+// Every contact shape is the true surface dilated by one particle radius r,
+// so two surfaces in contact stay one particle diameter (2 r) apart: the
+// thinnest film of water the particles resolve (each particle keeps r from
+// every surface). Without it, particles caught between a body and the floor
+// had nowhere to go: the collision pushed them into the wall, the wall
+// pushed them back into the body, and they left at tens of m/s.
+//
 // Determinism across checkpoints: Bullet keeps contact manifolds (warm
 // starting) and broadphase structures between steps, which a checkpoint of
 // poses and velocities does not hold. reset() rebuilds the dynamics world
@@ -62,10 +69,10 @@ struct BodyCollider {
 
 class ContactWorld {
   public:
-    // `margin` (m): Bullet's collision margin for convex hulls (added
-    // outside the hull) and the cap on the internal margin of boxes and cylinders.
+    // `dilation` (m): how far every contact shape reaches beyond its true
+    // surface (the particle radius; see above).
     ContactWorld(std::vector<StaticCollider> statics, std::vector<BodyCollider> bodies,
-                 float margin);
+                 float dilation);
     ~ContactWorld();
     ContactWorld(const ContactWorld&) = delete;
     ContactWorld& operator=(const ContactWorld&) = delete;
@@ -80,9 +87,10 @@ class ContactWorld {
     // The bodies' states after the last step (or reset).
     void read(std::span<RigidBodyState> states) const;
 
-    // The first pair (body with body, static solid or wall) that overlaps by
-    // more than `tolerance` metres at the states of the last reset, as
-    // "rigid_bodies[1] overlaps solids[0]"; none when they are all apart.
+    // The first pair (body with body, static solid or wall) whose true
+    // surfaces overlap by more than `tolerance` metres at the states of the
+    // last reset, as "rigid_bodies[1] overlaps solids[0] by 0.01 m"; none
+    // when they are all apart.
     std::optional<std::string> firstOverlap(float tolerance) const;
 
   private:

@@ -250,11 +250,14 @@ RigidBodies::RigidBodies(const WorldDef& def, SolidSet& solids) {
         colliders.push_back(std::move(built.collider));
     }
     loads_.assign(infos_.size(), RigidBodyLoad{});
-    const float margin = 0.1f * def.simulation.particleRadius;
-    contacts_ = std::make_unique<ContactWorld>(std::move(statics), std::move(colliders), margin);
+    // Contact shapes reach one particle radius beyond the surfaces: touching
+    // surfaces keep one layer of particles between them (contact_world.hpp).
+    contacts_ = std::make_unique<ContactWorld>(std::move(statics), std::move(colliders),
+                                               def.simulation.particleRadius);
     contacts_->reset(states_);
-    // Half a particle radius of overlap is tolerated (a box put exactly on
-    // the floor touches it); more would be shot apart at the first step.
+    // Half a particle radius of overlap is tolerated; a body put on the
+    // floor (or on another body) is lifted to the contact gap of 2 r in the
+    // first steps.
     if (const auto overlap = contacts_->firstOverlap(0.5f * def.simulation.particleRadius))
         throw SceneError(scenePrefix(def) + *overlap +
                          " at the start: bodies must start apart from each other, the solids "
