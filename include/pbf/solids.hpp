@@ -26,6 +26,8 @@
 
 namespace pbf {
 
+class BoundaryScale;  // src/world/boundary_scale.hpp
+
 class Solid {
   public:
     virtual ~Solid() = default;
@@ -72,6 +74,12 @@ class SolidSet {
     // Whether solid i feels the fluid (a rigid body's surface), and whether any does.
     bool coupled(std::size_t i) const { return coupled_[i]; }
     bool anyCoupled() const { return anyCoupled_; }
+    // A finite body's boundary density relative to the flat wall
+    // (src/world/boundary_scale.hpp): the factor at world point p, 1 for
+    // solids without one (static solids, the domain walls).
+    void setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale);
+    bool hasBoundaryScale(std::size_t i) const { return scales_[i] != nullptr; }
+    float boundaryScale(std::size_t i, const Vec3& p) const;
     // World-space box around solid i's surface.
     const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 
@@ -89,6 +97,7 @@ class SolidSet {
     std::vector<bool> identity_;  // pose is the identity: query the shape directly
     std::vector<Aabb> bounds_;
     std::vector<bool> coupled_;
+    std::vector<std::shared_ptr<const BoundaryScale>> scales_;
     bool moving_ = false;
     bool anyCoupled_ = false;
 };

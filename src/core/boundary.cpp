@@ -53,6 +53,13 @@ SolidContribution solidContribution(const SolverConstants& c, const SolidSet& so
     sampleWallTable(c.wall, distance, s.kernelSum, slope);
     s.gradient -= normal * slope;
     s.solid = nearest;
+    // A finite body: the flat wall's value scaled to the body's shape
+    // (world/boundary_scale.hpp).
+    if (solids.hasBoundaryScale(nearest)) {
+        const float ratio = solids.boundaryScale(nearest, x);
+        s.kernelSum *= ratio;
+        s.gradient *= ratio;
+    }
     return s;
 }
 

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
+#include "pbf/solver_constants.hpp"
 #include "pbf/triangle_mesh.hpp"
+#include "world/boundary_scale.hpp"
 #include "world/contact_world.hpp"
 #include "world/mass_properties.hpp"
 
@@ -190,7 +193,9 @@ BuiltBody buildBody(const WorldDef& def, const RigidBodyDescription& b, const st
             shape.kind = ContactShape::Kind::ConvexHull;
             shape.points = std::move(mesh.vertices);  // moved to the body frame below
             shapePose = d.transform.pose();
-            info.describe = fmt::format("mesh {} ({} triangles)", d.file, meshInfo.triangles);
+            info.describe = fmt::format("mesh {} scaled ({:g}, {:g}, {:g}) ({} triangles)", d.file,
+                                        d.transform.scale.x, d.transform.scale.y,
+                                        d.transform.scale.z, meshInfo.triangles);
             break;
         }
         case Kind::Plane:
@@ -240,11 +245,20 @@ RigidBodies::RigidBodies(const WorldDef& def, SolidSet& solids) {
     for (StaticCollider& w : wallColliders(def.simulation.domain)) statics.push_back(std::move(w));
 
     std::vector<BodyCollider> colliders;
+    // Bodies of the same shape share their boundary-density grid.
+    std::map<std::string, std::shared_ptr<const BoundaryScale>> scales;
+    const SolverConstants constants = SolverConstants::from(def.simulation);
     for (std::size_t i = 0; i < def.rigidBodies.size(); ++i) {
         const RigidBodyDescription& b = def.rigidBodies[i];
         BuiltBody built = buildBody(def, b, fieldOf(b.field, "rigid_bodies", i));
+        std::shared_ptr<const BoundaryScale>& scale = scales[built.info.describe];
+        if (!scale)
+            scale = std::make_shared<BoundaryScale>(*built.surface, constants.h,
+                                                    constants.wall.range,
+                                                    def.simulation.particleRadius);
         built.info.solid = solids.size();
         solids.add(std::move(built.surface), {}, /*coupled=*/true);
+        solids.setBoundaryScale(built.info.solid, scale);
         infos_.push_back(std::move(built.info));
         states_.push_back(built.state);
         colliders.push_back(std::move(built.collider));

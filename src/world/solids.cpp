@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "world/boundary_scale.hpp"
+
 namespace pbf {
 namespace {
 
@@ -172,6 +174,7 @@ void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion, bool
     identity_.push_back(true);
     bounds_.emplace_back();
     coupled_.push_back(coupled);
+    scales_.emplace_back();
     anyCoupled_ = anyCoupled_ || coupled;
     setMotion(shapes_.size() - 1, motion);
 }
@@ -183,6 +186,15 @@ void SolidSet::setMotion(std::size_t i, const SolidMotion& motion) {
     moving_ = false;
     for (const SolidMotion& m : motions_)
         moving_ = moving_ || !(m.velocity == Vec3{}) || !(m.angularVelocity == Vec3{});
+}
+
+void SolidSet::setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale) {
+    scales_.at(i) = std::move(scale);
+}
+
+float SolidSet::boundaryScale(std::size_t i, const Vec3& p) const {
+    if (!scales_[i]) return 1.0f;
+    return scales_[i]->at(identity_[i] ? p : motions_[i].pose.toLocal(p));
 }
 
 float SolidSet::distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const {
