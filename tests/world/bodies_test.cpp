@@ -7,6 +7,7 @@
 // highest particle of each 2r x 2r column away from the bodies, plus r —
 // the lattice's top layer sits r below the surface) and the share of the
 // cube's volume below it (a 24^3 grid of points in the posed cube).
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -350,6 +351,59 @@ TEST(Bodies, ShippedScenesKeepEveryParticleOutOfTheBodies) {
         EXPECT_EQ(worst, 0u) << entry.path();
     }
     EXPECT_GE(scenes, 2);
+}
+
+}  // namespace
+}  // namespace pbf::test
+
+namespace pbf::test {
+namespace {
+
+// Bad input: a clear error naming the file and the field, before anything runs.
+std::string sceneError(const std::string& bodies, const std::string& extra = "") {
+    const std::string json = R"({
+      "name": "bad",
+      "domain": {"min": [0, 0, 0], "max": [0.6, 0.5, 0.4]},
+      "particle_radius": 0.02,
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.6, 0.2, 0.4]}],)" +
+                             extra + R"("rigid_bodies": [)" + bodies + "]}";
+    try {
+        const Scene scene = parseScene(json, std::string(PBF_TESTS_DATA_DIR) + "/bad.json");
+        World world(scene);
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+TEST(BodiesInput, BadBodiesAreRefusedNamingFileAndField) {
+    const std::string box = R"("type": "box", "min": [0.1, 0.3, 0.1], "max": [0.2, 0.4, 0.2])";
+    const std::map<std::string, std::string> cases = {
+        {"{" + box + R"(, "density": 0})", R"(bad.json: rigid_bodies\[0\].density: must be positive)"},
+        {"{" + box + R"(, "density": -500})", R"(rigid_bodies\[0\].density: must be positive)"},
+        {"{" + box + R"(, "density": 500, "mass": 1})",
+         R"(rigid_bodies\[0\].density: give exactly one of density)"},
+        {"{" + box + "}", R"(rigid_bodies\[0\].density: give exactly one of density)"},
+        {"{" + box + R"(, "density": 500, "friction": -1})", R"(rigid_bodies\[0\].friction: must be in \[0, 10\])"},
+        {R"({"type": "plane", "point": [0, 0.3, 0], "density": 500})",
+         R"(rigid_bodies\[0\].type: expected "box", "sphere", "cylinder" or "mesh")"},
+        // Overlaps at the start: another body, a solid, the domain walls.
+        {"{" + box + R"(, "density": 500}, {"type": "sphere", "center": [0.2, 0.4, 0.2], "radius": 0.05, "density": 500})",
+         R"(bad.json: rigid_bodies\[[01]\] overlaps rigid_bodies\[[01]\] by 0.0[0-9]+ m at the start)"},
+        {R"({"type": "box", "min": [0.5, 0.3, 0.1], "max": [0.7, 0.4, 0.2], "density": 500})",
+         R"(rigid_bodies\[0\] overlaps the domain walls)"},
+        // A broken mesh: open (no inside, no volume), and not an OBJ mesh at all.
+        {R"({"type": "mesh", "file": "open_square.obj", "translation": [0.3, 0.3, 0.2], "density": 500})",
+         R"(rigid_bodies\[0\].file: .*open_square.obj: a rigid body's mesh must be closed)"},
+        {R"({"type": "mesh", "file": "garbage.obj", "translation": [0.3, 0.3, 0.2], "density": 500})",
+         R"(rigid_bodies\[0\].file: .*garbage.obj)"},
+    };
+    for (const auto& [bodies, expected] : cases)
+        EXPECT_THAT(sceneError(bodies), ::testing::ContainsRegex(expected)) << bodies;
+    EXPECT_THAT(sceneError("{" + box + R"(, "density": 500})",
+                           R"("solids": [{"type": "sphere", "center": [0.15, 0.4, 0.15], "radius": 0.05}],)"),
+                ::testing::ContainsRegex(R"(rigid_bodies\[0\] overlaps solids\[0\])"));
+    EXPECT_EQ(sceneError("{" + box + R"(, "density": 500})"), "no error");
 }
 
 }  // namespace
