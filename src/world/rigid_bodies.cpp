@@ -297,11 +297,16 @@ void RigidBodies::setState(std::size_t i, const RigidBodyState& state, SolidSet&
     solids.setMotion(infos_[i].solid, surfaceMotion(i, states_[i]));
 }
 
+// Exactly the given bits (a checkpoint): normalising the orientation again
+// would change its last bit and the resumed run would drift from the
+// uninterrupted one.
 void RigidBodies::setStates(std::vector<RigidBodyState> states, SolidSet& solids) {
     if (states.size() != size())
         throw std::invalid_argument(fmt::format("{} body states for {} rigid bodies",
                                                 states.size(), size()));
-    for (std::size_t i = 0; i < size(); ++i) setState(i, states[i], solids);
+    states_ = std::move(states);
+    for (std::size_t i = 0; i < size(); ++i)
+        solids.setMotion(infos_[i].solid, surfaceMotion(i, states_[i]));
 }
 
 float RigidBodies::maxSurfaceSpeed() const {

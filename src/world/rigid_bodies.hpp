@@ -50,8 +50,10 @@ class RigidBodies {
     const std::vector<RigidBodyInfo>& infos() const { return infos_; }
     const std::vector<RigidBodyState>& states() const { return states_; }
     const std::vector<RigidBodyLoad>& loads() const { return loads_; }
-    // Replaces a body's state (between frames); its surface follows.
+    // Replaces a body's state (between frames; the orientation is
+    // normalised); its surface follows.
     void setState(std::size_t i, const RigidBodyState& state, SolidSet& solids);
+    // Puts a checkpoint's states back, bit for bit.
     void setStates(std::vector<RigidBodyState> states, SolidSet& solids);
 
     // Largest speed of a body's surface: |v| + |omega| * bounding radius.

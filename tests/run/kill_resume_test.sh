@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `pbf run` killed for real, then resumed: SIGKILL (no chance to clean up) and
 # SIGTERM (stops cleanly with a checkpoint) in the middle of a run, then
-# `--resume`; every frame file must equal the uninterrupted run's byte for byte.
+# `--resume`; every frame file (and bodies.csv, for a scene with rigid
+# bodies) must equal the uninterrupted run's byte for byte.
 # Usage: kill_resume_test.sh PBF SCENE WORKDIR
 set -euo pipefail
 pbf=$1
@@ -49,6 +50,9 @@ compare() {
     for f in "$work/straight"/frame_*.ply; do
         cmp "$f" "$dir/$(basename "$f")" || { echo "FAIL: $(basename "$f") differs after resume"; exit 1; }
     done
+    if [ -e "$work/straight/bodies.csv" ]; then
+        cmp "$work/straight/bodies.csv" "$dir/bodies.csv" || { echo "FAIL: bodies.csv differs after resume"; exit 1; }
+    fi
     if ls -A "$dir" | grep -q '\.tmp'; then echo "FAIL: temporary files left in $dir"; exit 1; fi
 }
 
