@@ -185,6 +185,7 @@ class World {
     std::optional<StepError> checkState(int substep, double time, const char* stage) const;
     void applyHostEdits();
     void refreshArrays();
+    void indexSolids();
 
     WorldDef def_;
     SimulationParams settings_;

@@ -23,6 +23,7 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     solids_ = buildSolids(def_);
     // Bodies add their surfaces to the solids, so no particle starts inside one.
     bodies_ = std::make_unique<detail::RigidBodies>(def_, *solids_);
+    indexSolids();
     backend_ = makeBackend(options.backend, settings_, options.backendOptions);
     backend_->upload(createParticles(def_, solids_.get(), &skipped_));
     for (const EmitterDescription& e : def_.emitters) emitters_.emplace_back(e, settings_);
@@ -123,10 +124,12 @@ FrameResult World::stepFrame() {
             // against the bodies' surfaces where they will be, then its
             // reaction moves the bodies.
             bodies_->placeForFluid(dt, *solids_);
+            indexSolids();
             backend_->step(context(), static_cast<float>(dt));
             report.stageMs += backend_->lastStageTimes();
             const auto bodiesStart = std::chrono::steady_clock::now();
             bodies_->advance(dt, settings_.gravity, backend_->lastReactions(), *solids_);
+            indexSolids();
             const double bodiesMs = std::chrono::duration<double, std::milli>(
                                         std::chrono::steady_clock::now() - bodiesStart)
                                         .count();
@@ -256,6 +259,7 @@ void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
         throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
                                     " is a rigid body's surface; use setBodyState");
     solids_->setMotion(i, motion);
+    indexSolids();
 }
 
 std::size_t World::bodyCount() const {
@@ -276,6 +280,16 @@ void World::setBodyState(std::size_t i, const RigidBodyState& state) {
         throw std::out_of_range("setBodyState: no rigid body " + std::to_string(i) +
                                 " (the world has " + std::to_string(bodies_->size()) + ")");
     bodies_->setState(i, state, *solids_);
+    indexSolids();
+}
+
+// The solids' lookup grid (SolidSet::buildIndex) with the largest reach the
+// solver asks for: the sweep's move (under a CFL step) plus a kernel radius.
+void World::indexSolids() {
+    const float margin = constants_.h + 2.0f * settings_.particleRadius;
+    const Vec3 pad{margin, margin, margin};
+    solids_->buildIndex({def_.simulation.domain.min - pad, def_.simulation.domain.max + pad},
+                        margin);
 }
 
 WorldState World::captureState() const {
@@ -299,6 +313,7 @@ void World::restoreState(WorldState state) {
                                     " rigid bodies");
     for (std::size_t k = 0; k < emitters_.size(); ++k) emitters_[k].setState(state.emitters[k]);
     bodies_->setStates(std::move(state.bodies), *solids_);
+    indexSolids();
     backend_->upload(std::move(state.particles));
     frame_ = state.frame;
     time_ = state.time;

@@ -408,3 +408,41 @@ TEST(BodiesInput, BadBodiesAreRefusedNamingFileAndField) {
 
 }  // namespace
 }  // namespace pbf::test
+
+namespace pbf::test {
+namespace {
+
+// Mass properties: a closed mesh gets the exact volume, centre and inertia
+// (polyhedral integrals); its body frame is the centre of mass, wherever the
+// file's origin is.
+TEST(BodiesInput, MeshBodyHasTheMassPropertiesOfItsShape) {
+    WorldDef def = tank();
+    RigidBodyDescription mesh;
+    mesh.shape.kind = SolidDescription::Kind::Mesh;
+    mesh.shape.file = std::string(PBF_TESTS_DATA_DIR) + "/cube.obj";
+    mesh.shape.transform.scale = {0.1f, 0.1f, 0.1f};
+    mesh.shape.transform.translation = {0.3f, 0.35f, 0.1f};
+    mesh.density = 600.0f;
+    def.rigidBodies.push_back(mesh);
+    def.rigidBodies.push_back(cube({0.5f, 0.4f, 0.15f}, 600.0f));
+    World world(def);
+    const RigidBodyInfo& m = world.bodyInfos()[0];
+    const RigidBodyInfo& b = world.bodyInfos()[1];
+    EXPECT_NEAR(m.volume, 1e-3, 1e-9);
+    EXPECT_NEAR(m.mass, 0.6, 1e-6);
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_NEAR(m.inertia[axis], 0.6 * 0.01 / 6.0, 1e-8) << axis;  // M L^2 / 6
+        EXPECT_NEAR(b.inertia[axis], 0.6 * 0.01 / 6.0, 1e-8) << axis;
+    }
+    const Vec3 centre = world.bodyStates()[0].position;  // the file's cube is [0, 1]^3
+    EXPECT_NEAR(centre.x, 0.35f, 1e-5f);
+    EXPECT_NEAR(centre.y, 0.40f, 1e-5f);
+    EXPECT_NEAR(centre.z, 0.15f, 1e-5f);
+    std::printf("  mesh cube: centre (%.4f, %.4f, %.4f), shape origin at (%.4f, %.4f, %.4f) in the body frame\n",
+                world.bodyStates()[0].position.x, world.bodyStates()[0].position.y,
+                world.bodyStates()[0].position.z, m.shapeInBody.position.x,
+                m.shapeInBody.position.y, m.shapeInBody.position.z);
+}
+
+}  // namespace
+}  // namespace pbf::test
