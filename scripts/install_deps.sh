@@ -11,6 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libhwy-dev
   libopenvdb-dev libtbb-dev libtinyobjloader-dev libboost-iostreams-dev
+  # rigid bodies: contacts and dynamics (double-precision build, bullet-float64.pc)
+  libbullet-dev
   # pbf_render (PBF_BUILD_VIEWER): viewer, headless EGL rendering, images, video, viewer test
   libglfw3-dev libepoxy-dev libimgui-dev libglm-dev libstb-dev
   libegl-dev libegl-mesa0 libgl1 libglx-mesa0 libgl1-mesa-dri ffmpeg xvfb xauth

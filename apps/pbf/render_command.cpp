@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -85,6 +87,33 @@ std::vector<fs::path> plyFrames(const fs::path& directory) {
     std::sort(files.begin(), files.end());
     if (files.empty()) throw IoError(directory.string() + ": no frame_NNNNN.ply files");
     return files;
+}
+
+// Body poses per frame from a run's bodies.csv (frame,time,body,x,y,z,qw,qx,qy,qz,...):
+// poses[frame][body] is the pose of the body's centre of mass and principal axes.
+std::vector<std::vector<Pose>> readBodyPoses(const fs::path& file) {
+    std::ifstream in(file);
+    if (!in) throw IoError(file.string() + ": cannot open");
+    std::vector<std::vector<Pose>> poses;
+    std::string line;
+    std::getline(in, line);  // header
+    int row = 1;
+    while (std::getline(in, line)) {
+        ++row;
+        std::stringstream fields(line);
+        std::vector<double> v;
+        std::string field;
+        while (std::getline(fields, field, ',')) v.push_back(std::atof(field.c_str()));
+        if (v.size() < 10 || v[0] < 0 || v[2] < 0)
+            throw IoError(fmt::format("{}: line {}: expected frame,time,body,x,y,z,qw,qx,qy,qz",
+                                      file.string(), row));
+        const auto frame = std::size_t(v[0]), body = std::size_t(v[2]);
+        if (poses.size() <= frame) poses.resize(frame + 1);
+        if (poses[frame].size() <= body) poses[frame].resize(body + 1);
+        poses[frame][body] = {{float(v[3]), float(v[4]), float(v[5])},
+                              {float(v[6]), float(v[7]), float(v[8]), float(v[9])}};
+    }
+    return poses;
 }
 
 Aabb boundingBox(const ParticleFrame& frame) {
@@ -202,7 +231,12 @@ int runRender(const RenderArguments& args) {
         run.output.writeVtk = false;
         run.output.writeCheckpoints = false;
         RunOptions options;
+        const render::SolidMesh& statics = solids;
+        const std::vector<render::SolidMesh> bodyShapes = render::tessellateBodyShapes(scene);
         options.writeFrame = [&](int frame, const World& world) {
+            // Rigid bodies move: the solids are drawn at this frame's poses.
+            if (!bodyShapes.empty())
+                writer.setSolids(render::posedSolids(statics, bodyShapes, world));
             renderFrame(frame, render::packParticles(world.particles(), images.look.color));
         };
         const auto t0 = Clock::now();
@@ -215,11 +249,36 @@ int runRender(const RenderArguments& args) {
             status = 4;
         }
     } else {
+        // Rigid bodies of the scene, placed per frame from the run's bodies.csv
+        // (centre of mass and principal axes; the World built from the scene
+        // gives where each shape sits in its body frame).
+        std::vector<render::SolidMesh> bodyShapes;
+        std::vector<Pose> shapeInBody;
+        std::vector<std::vector<Pose>> bodyPoses;
+        const fs::path bodiesCsv = fs::path(args.plyDirectory) / "bodies.csv";
+        if (haveScene && !scene.rigidBodies.empty() && fs::exists(bodiesCsv)) {
+            bodyShapes = render::tessellateBodyShapes(scene);
+            const World world(scene);
+            for (const RigidBodyInfo& info : world.bodyInfos()) shapeInBody.push_back(info.shapeInBody);
+            bodyPoses = readBodyPoses(bodiesCsv);
+        }
+        const render::SolidMesh& statics = solids;
         for (int frame = 0; frame < total; ++frame) {
             const auto t0 = Clock::now();
             const ParticleFrame ply =
                 frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]);
             simulateSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
+            if (std::size_t(frame) < bodyPoses.size()) {
+                render::SolidMesh posed = statics;
+                const std::vector<Pose>& poses = bodyPoses[std::size_t(frame)];
+                for (std::size_t k = 0; k < bodyShapes.size() && k < poses.size(); ++k) {
+                    const Pose& b = poses[k];
+                    const Pose& local = shapeInBody[k];
+                    render::appendPosed(posed, bodyShapes[k],
+                                        {b.toWorld(local.position), b.orientation * local.orientation});
+                }
+                writer.setSolids(posed);
+            }
             renderFrame(frame, render::packParticles(ply, images.look.color));
         }
     }

@@ -24,12 +24,16 @@ namespace fs = std::filesystem;
 struct RunImages::Impl {
     Scene scene;
     fs::path directory;  // the run's
+    render::SolidMesh statics;                  // the static solids
+    std::vector<render::SolidMesh> bodyShapes;  // rigid bodies, posed per frame
     render::FrameImages images;
     Impl(const Scene& s, const render::ImageSettings& settings)
         : scene(s),
           directory(s.output.directory),
-          images(settings, s.simulation.domain, s.simulation.particleRadius,
-                 render::tessellateSolids(s), directory / "images") {}
+          statics(render::tessellateSolids(s)),
+          bodyShapes(render::tessellateBodyShapes(s)),
+          images(settings, s.simulation.domain, s.simulation.particleRadius, statics,
+                 directory / "images") {}
 };
 
 std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
@@ -54,6 +58,9 @@ std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
 }
 
 void RunImages::write(int frame, const World& world) {
+    // Rigid bodies move: the solids are drawn at this frame's poses.
+    if (!impl_->bodyShapes.empty())
+        impl_->images.setSolids(render::posedSolids(impl_->statics, impl_->bodyShapes, world));
     impl_->images.write(
         frame, render::packParticles(world.particles(), impl_->images.settings().look.color));
 }

@@ -21,6 +21,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pbf/params.hpp"
 #include "pbf/particles.hpp"
@@ -44,12 +45,24 @@ struct StageTimes {
     double neighborLists = 0.0;  // distance tests, neighbour lists
     double lambda = 0.0;         // density + lambda passes, all iterations
     double deltaP = 0.0;  // correction passes with their box / solid projection, all iterations
+    // Rigid bodies: forces in, one Bullet step, poses out (the World adds
+    // it; the fluid's share of the coupling is in the stages above).
+    double bodies = 0.0;
     // Density iterations the solver ran (counted in its loop, not copied
     // from the settings).
     double iterations = 0.0;
 
     StageTimes& operator+=(const StageTimes& o);
     StageTimes operator*(double factor) const;
+};
+
+// What the fluid did to a coupled solid (a rigid body's surface) during one
+// step: the reaction to the momentum the solid's boundary gave the fluid
+// (src/core/reactions.hpp). Force in N, torque in N m about the origin of
+// the solid's frame (its pose's position).
+struct SolidReaction {
+    Vec3 force;
+    Vec3 torque;
 };
 
 // The constant inputs of a backend call: the World's live settings, the SI
@@ -89,6 +102,10 @@ class Backend {
     // Advances every particle by dt seconds.
     virtual void step(const SolverContext& context, float dt) = 0;
     virtual const StageTimes& lastStageTimes() const = 0;
+    // The fluid's reaction on each solid of the context during the last
+    // step (one entry per solid, zero for solids that are not coupled;
+    // empty when none is). Deterministic: no atomics, fixed summation order.
+    virtual std::span<const SolidReaction> lastReactions() const = 0;
 
     // Reductions over the particles, computed where they live.
     virtual float maxSpeed() const = 0;

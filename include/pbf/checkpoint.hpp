@@ -7,7 +7,10 @@
 // current one. A checkpoint therefore stores the particle arrays in memory
 // order (position, velocity, density, id; the predicted positions equal the
 // positions between steps), the store's next id, the frame counter and the
-// time. It also stores the run's totals and the stats.csv rows so far, the
+// time, and the rigid bodies' states (poses, velocities; the contact
+// solver is rebuilt from them at every frame, see
+// src/world/contact_world.hpp). It also stores the run's totals, the
+// stats.csv and bodies.csv rows so far, the
 // scene fingerprint (a resume with another scene is refused) and the pbf
 // version (solvers of different versions give different bits).
 //
@@ -29,12 +32,14 @@
 
 #include "pbf/emitter.hpp"
 #include "pbf/particles.hpp"
+#include "pbf/rigid_body.hpp"
 
 namespace pbf {
 
 class World;
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;  // 2: emitters, inside_solid
+// 2: emitters, inside_solid; 3: rigid bodies and bodies.csv
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and
@@ -47,7 +52,8 @@ struct RunTotals {
     double maxDensityError = 0.0;
     std::uint64_t maxEscaped = 0;
     std::uint64_t maxInsideSolid = 0;
-    std::string statsCsv;  // stats.csv so far, header included
+    std::string statsCsv;   // stats.csv so far, header included
+    std::string bodiesCsv;  // bodies.csv so far (empty without rigid bodies)
 };
 
 struct Checkpoint {
@@ -57,6 +63,7 @@ struct Checkpoint {
     double time = 0.0;
     ParticleStore particles;             // memory order; `predicted` is not stored
     std::vector<EmitterState> emitters;  // one per emitter of the scene
+    std::vector<RigidBodyState> bodies;  // one per rigid body of the scene
     RunTotals totals;
 };
 

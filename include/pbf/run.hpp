@@ -4,6 +4,7 @@
 // Output directory layout:
 //   frame_00000.ply ...  particles per frame (frame 0 is the initial state)
 //   stats.csv            one row per frame, appended as the run goes
+//   bodies.csv           with rigid bodies: one row per body per frame, appended likewise
 //   summary.json         totals of the run (and the error that stopped it, if any)
 //   checkpoint.pbfck     the state to resume from (include/pbf/checkpoint.hpp)
 // Every file is replaced atomically (stats.csv grows by whole rows), so the
@@ -83,6 +84,10 @@ RunSummary runScene(const Scene& scene, const RunOptions& options);
 // The stats.csv header line (without newline) and one row.
 std::string statsCsvHeader();
 std::string statsCsvRow(const FrameReport& report);
+// The bodies.csv header line (without newline) and the rows of the world's
+// current frame, one per body, each ending in a newline.
+std::string bodiesCsvHeader();
+std::string bodiesCsvRows(const World& world);
 
 std::filesystem::path frameFileName(int frame);  // "frame_00042.ply"
 

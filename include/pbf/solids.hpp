@@ -15,6 +15,7 @@
 // are converted to a narrow-band level set with OpenVDB (mesh_solid.cpp).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -25,6 +26,8 @@
 #include "pbf/vec3.hpp"
 
 namespace pbf {
+
+class BoundaryScale;  // src/world/boundary_scale.hpp
 
 class Solid {
   public:
@@ -54,9 +57,13 @@ struct SolidMotion {
 
 // The solids of a world, each a shape in its own frame placed by a pose.
 // Queries return the nearest solid's distance.
+//
+// A solid may be `coupled` (the surface of a rigid body): the solver then
+// records the momentum its boundary gives the fluid, and the World applies
+// the reaction to the body (docs/architecture.md, "Rigid bodies").
 class SolidSet {
   public:
-    void add(std::unique_ptr<Solid> shape, const SolidMotion& motion = {});
+    void add(std::unique_ptr<Solid> shape, const SolidMotion& motion = {}, bool coupled = false);
     bool empty() const { return shapes_.empty(); }
     std::size_t size() const { return shapes_.size(); }
     const Solid& shape(std::size_t i) const { return *shapes_[i]; }
@@ -65,6 +72,15 @@ class SolidSet {
     void setMotion(std::size_t i, const SolidMotion& motion);
     // Whether any solid has a non-zero velocity.
     bool anyMoving() const { return moving_; }
+    // Whether solid i feels the fluid (a rigid body's surface), and whether any does.
+    bool coupled(std::size_t i) const { return coupled_[i]; }
+    bool anyCoupled() const { return anyCoupled_; }
+    // A finite body's boundary density relative to the flat wall
+    // (src/world/boundary_scale.hpp): the factor at world point p, 1 for
+    // solids without one (static solids, the domain walls).
+    void setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale);
+    bool hasBoundaryScale(std::size_t i) const { return scales_[i] != nullptr; }
+    float boundaryScale(std::size_t i, const Vec3& p) const;
     // World-space box around solid i's surface.
     const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 
@@ -74,14 +90,35 @@ class SolidSet {
     float signedDistance(const Vec3& p, float reach, Vec3& normal,
                          std::size_t* nearest = nullptr) const;
 
+    // A uniform grid over `box` listing, per cell, the solids whose bounds
+    // come within `margin` of it, so that queries with reach <= margin test
+    // a few solids instead of all (a hundred bodies). Queries give the same
+    // results with or without it (same candidates, same order). Moving a
+    // solid drops the grid until the next call; call it between steps, never
+    // while queries run.
+    void buildIndex(const Aabb& box, float margin);
+
   private:
     float distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const;
+    struct Index {
+        bool valid = false;
+        Aabb box;
+        float margin = 0.0f;
+        float inverseCell = 0.0f;
+        int nx = 0, ny = 0, nz = 0;
+        std::vector<std::uint32_t> start;  // CSR offsets per cell
+        std::vector<std::uint32_t> items;  // solid indices, ascending per cell
+    };
+    Index index_;
 
     std::vector<std::unique_ptr<Solid>> shapes_;
     std::vector<SolidMotion> motions_;
     std::vector<bool> identity_;  // pose is the identity: query the shape directly
     std::vector<Aabb> bounds_;
+    std::vector<bool> coupled_;
+    std::vector<std::shared_ptr<const BoundaryScale>> scales_;
     bool moving_ = false;
+    bool anyCoupled_ = false;
 };
 
 // Placement of a mesh: p' = rotation(p * scale) + translation, rotation as

@@ -31,6 +31,7 @@
 #include "pbf/backend.hpp"
 #include "pbf/emitter.hpp"
 #include "pbf/particles.hpp"
+#include "pbf/rigid_body.hpp"
 #include "pbf/solids.hpp"
 #include "pbf/solver_constants.hpp"
 #include "pbf/state_guard.hpp"
@@ -38,6 +39,10 @@
 #include "pbf/world_def.hpp"
 
 namespace pbf {
+
+namespace detail {
+class RigidBodies;
+}
 
 struct FrameReport {
     int frame = 0;        // frames completed
@@ -74,6 +79,7 @@ struct FrameResult {
 struct WorldState {
     ParticleStore particles;             // the backend's memory order
     std::vector<EmitterState> emitters;  // one per emitter of the definition
+    std::vector<RigidBodyState> bodies;  // one per rigid body of the definition
     int frame = 0;
     double time = 0.0;
 };
@@ -142,6 +148,16 @@ class World {
     void setSolidMotion(std::size_t i, const SolidMotion& motion);
     const std::vector<Emitter>& emitters() const { return emitters_; }
 
+    // Rigid bodies (definition().rigidBodies, in that order): what each is,
+    // its state, and the fluid's force and torque on it averaged over the
+    // last frame. A body's surface is solid bodyInfos()[i].solid of solids().
+    std::size_t bodyCount() const;
+    const std::vector<RigidBodyInfo>& bodyInfos() const;
+    const std::vector<RigidBodyState>& bodyStates() const;
+    const std::vector<RigidBodyLoad>& bodyLoads() const;
+    // Replaces body i's state between frames (scripting).
+    void setBodyState(std::size_t i, const RigidBodyState& state);
+
     // Speed above which the state guard fails a frame (m/s; <= 0: no speed
     // check). Defaults to speedLimit(definition()).
     double speedLimit() const { return speedLimit_; }
@@ -149,8 +165,9 @@ class World {
 
     // The substep the adaptive mode takes now, given `remaining` seconds of
     // the frame: min(max_time_step, cfl * spacing / speed), where speed is the
-    // largest particle speed plus what gravity adds in one step, then evened
-    // out so that the frame ends on a whole number of equal substeps.
+    // largest particle or body-surface speed plus what gravity adds in one
+    // step, then evened out so that the frame ends on a whole number of
+    // equal substeps.
     double adaptiveSubstep(double remaining) const;
 
     // The state, for checkpoints; restoreState puts one back (particles in
@@ -168,11 +185,13 @@ class World {
     std::optional<StepError> checkState(int substep, double time, const char* stage) const;
     void applyHostEdits();
     void refreshArrays();
+    void indexSolids();
 
     WorldDef def_;
     SimulationParams settings_;
     SolverConstants constants_;
     std::unique_ptr<SolidSet> solids_;
+    std::unique_ptr<detail::RigidBodies> bodies_;
     std::unique_ptr<Backend> backend_;
     std::vector<Emitter> emitters_;
     std::size_t skipped_ = 0;

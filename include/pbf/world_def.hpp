@@ -56,6 +56,24 @@ struct SolidDescription {
     std::string field;            // "solids[2]", for messages (set by validate if empty)
 };
 
+// A rigid body (docs/scenes.md, "rigid_bodies"): a solid shape that moves,
+// pushed by the fluid (the reaction of the boundary's corrections: buoyancy
+// and drag come out of the solver) and by gravity, colliding with other
+// bodies, the solids and the domain walls through Bullet. Box, sphere and
+// cylinder are given in world coordinates as solids are; `shape.transform`
+// places a mesh (scale, rotation, translation) and its rotation also turns a
+// box about its centre. Exactly one of density and mass is given (> 0).
+struct RigidBodyDescription {
+    SolidDescription shape;  // Box, Sphere, Cylinder or Mesh (a closed mesh)
+    float density = 0.0f;    // kg/m^3, (0, 1e5]; 0: use mass
+    float mass = 0.0f;       // kg, (0, 1e9]; 0: use density
+    Vec3 velocity;           // initial velocity of the centre of mass, m/s
+    Vec3 angularVelocity;    // initial angular velocity, rad/s (world axes)
+    float friction = 0.5f;     // Coulomb coefficient in contacts, [0, 10]
+    float restitution = 0.0f;  // share of the normal speed kept in contacts, [0, 1]
+    std::string field;         // "rigid_bodies[0]", for messages (set by validate if empty)
+};
+
 // A nozzle pouring water: discs of particles (lattice spacing 2 r, within
 // `radius` of the axis) leave `position` along `direction` at `speed`, one
 // disc per 2 r travelled, between `start` and `end` seconds or until
@@ -86,6 +104,7 @@ struct WorldDef {
     SimulationParams simulation;
     std::vector<FluidBlock> fluidBlocks;
     std::vector<SolidDescription> solids;
+    std::vector<RigidBodyDescription> rigidBodies;
     std::vector<EmitterDescription> emitters;
     float fps = 30.0f;  // frames per simulated second: World::stepFrame advances 1 / fps, (0, 1e4]
     GuardParams guard;

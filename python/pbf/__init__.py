@@ -5,6 +5,7 @@
     world.step_frame()                     # one output frame (1 / fps seconds)
     x = world.positions                    # (N, 3) float32 view, in id order
     world.settings.iterations = 6          # live settings, validated
+    world.bodies[0].position               # rigid bodies: pose, velocity, fluid force
     pbf.run("scenes/dam_break.json", out="out/dam", frames=60)   # what `pbf run` does
 
 The simulation is the C++ library (the extension module pbf._pbf); this
@@ -23,6 +24,9 @@ from ._pbf import (
     GuardParams,
     IoError,
     OutputParams,
+    RigidBody,
+    RigidBodyDescription,
+    RigidBodyList,
     RunSummary,
     Scene,
     SceneError,
@@ -49,7 +53,7 @@ from .ply import read_ply
 __all__ = [
     "Aabb", "ArtificialPressureParams", "EmitterDescription", "EmitterList", "FluidBlock",
     "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "OutputParams",
-    "RunSummary", "Scene", "SceneError", "Settings", "SimulationParams", "SolidDescription",
+    "RigidBody", "RigidBodyDescription", "RigidBodyList", "RunSummary", "Scene", "SceneError", "Settings", "SimulationParams", "SolidDescription",
     "SolidList", "SolverParams", "StageTimes", "StateError", "StateStatistics", "Transform",
     "World", "WorldDef", "hardware_threads", "load_scene", "read_ply", "run", "set_threads",
     "threads",

@@ -26,6 +26,7 @@
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::FluidBlock>)
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::SolidDescription>)
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::EmitterDescription>)
+PYBIND11_MAKE_OPAQUE(std::vector<pbf::RigidBodyDescription>)
 
 namespace pbf::python {
 
@@ -86,6 +87,7 @@ namespace py = pybind11;
 void bindErrors(py::module_& m);      // errors.cpp
 void bindParams(py::module_& m);      // params.cpp
 void bindDefinition(py::module_& m);  // definition.cpp
+void bindBodyDescription(py::module_& m);  // bodies.cpp: pbf.RigidBodyDescription
 void bindSettings(py::module_& m);    // settings.cpp
 void bindWorld(py::module_& m);       // world.cpp
 void bindRun(py::module_& m);         // run.cpp

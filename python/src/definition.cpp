@@ -262,10 +262,13 @@ void bindWorldDef(py::module_& m) {
     py::bind_vector<std::vector<FluidBlock>>(m, "FluidBlockList").def("__repr__", listRepr);
     py::bind_vector<std::vector<SolidDescription>>(m, "SolidList").def("__repr__", listRepr);
     py::bind_vector<std::vector<EmitterDescription>>(m, "EmitterList").def("__repr__", listRepr);
+    py::bind_vector<std::vector<RigidBodyDescription>>(m, "RigidBodyList")
+        .def("__repr__", listRepr);
     // Plain Python lists assign to the definition's lists.
     py::implicitly_convertible<py::list, std::vector<FluidBlock>>();
     py::implicitly_convertible<py::list, std::vector<SolidDescription>>();
     py::implicitly_convertible<py::list, std::vector<EmitterDescription>>();
+    py::implicitly_convertible<py::list, std::vector<RigidBodyDescription>>();
 
     py::class_<WorldDef>(m, "WorldDef",
                          "The definition of a simulation: parameters, fluid blocks, solids, "
@@ -292,6 +295,8 @@ void bindWorldDef(py::module_& m) {
         .def_readwrite("fluid_blocks", &WorldDef::fluidBlocks)
         .def_readwrite("solids", &WorldDef::solids)
         .def_readwrite("emitters", &WorldDef::emitters)
+        .def_readwrite("rigid_bodies", &WorldDef::rigidBodies,
+                       "pbf.RigidBodyDescription list (docs/scenes.md, \"rigid_bodies\")")
         .def_property("fps", floatGetter(&WorldDef::fps), floatSetter(&WorldDef::fps),
                       "frames per simulated second, (0, 1e4]")
         .def_readwrite("guard", &WorldDef::guard)
@@ -304,7 +309,8 @@ void bindWorldDef(py::module_& m) {
         .def("__repr__", [](const py::object& self) {
             return reprOf(
                 self, "WorldDef",
-                {"name", "simulation", "fluid_blocks", "solids", "emitters", "fps", "guard"});
+                {"name", "simulation", "fluid_blocks", "solids", "rigid_bodies", "emitters", "fps",
+                 "guard"});
         });
 }
 
@@ -356,6 +362,7 @@ void bindScene(py::module_& m) {
 void bindDefinition(py::module_& m) {
     bindBlocksAndGuard(m);
     bindSolids(m);
+    bindBodyDescription(m);
     bindEmitters(m);
     bindWorldDef(m);
     bindScene(m);

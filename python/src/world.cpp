@@ -114,12 +114,19 @@ std::vector<Vec3> pointsFrom(const py::handle& values, const char* what) {
     return points;
 }
 
+}  // namespace
+
+void bindBodies(py::module_& m, py::class_<WorldHandle, Handle>& world);  // bodies.cpp
+
+namespace {
+
 void bindWorldClass(py::module_& m) {
-    py::class_<WorldHandle, Handle>(
+    py::class_<WorldHandle, Handle> world(
         m, "World",
         "One simulation: its definition, live settings (world.settings) and particles "
         "(numpy views in id order). step_frame() advances one output frame (1 / fps seconds) "
-        "with the GIL released.")
+        "with the GIL released.");
+    world
         .def(py::init(&makeWorld), py::arg("definition"), py::arg("device") = "cpu",
              "A world from a WorldDef (or Scene); device \"cpu\" (SIMD, default) or "
              "\"reference\" (scalar oracle, slow). Raises pbf.SceneError for an invalid "
@@ -267,6 +274,7 @@ void bindWorldClass(py::module_& m) {
                        ", device=" + std::string(backendName(w.backend().kind())) + ")";
             });
         });
+    bindBodies(m, world);
 }
 
 }  // namespace

@@ -48,6 +48,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
     neighborLists += o.neighborLists;
     lambda += o.lambda;
     deltaP += o.deltaP;
+    bodies += o.bodies;
     iterations += o.iterations;
     return *this;
 }
@@ -64,6 +65,7 @@ StageTimes StageTimes::operator*(double factor) const {
     r.neighborLists = neighborLists * factor;
     r.lambda = lambda * factor;
     r.deltaP = deltaP * factor;
+    r.bodies = bodies * factor;
     r.iterations = iterations * factor;
     return r;
 }

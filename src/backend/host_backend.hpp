@@ -3,6 +3,9 @@
 // CPU and reference backends. A device backend implements Backend directly.
 #pragma once
 
+#include <vector>
+
+#include "core/reactions.hpp"
 #include "pbf/backend.hpp"
 
 namespace pbf {
@@ -13,6 +16,7 @@ class HostBackend : public Backend {
     void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
                 float density) override;
     const StageTimes& lastStageTimes() const override { return times_; }
+    std::span<const SolidReaction> lastReactions() const override { return lastReactions_; }
 
     float maxSpeed() const override;
     std::optional<BadParticle> findBadParticle(double speedLimit) const override;
@@ -26,6 +30,8 @@ class HostBackend : public Backend {
   protected:
     ParticleStore store_;
     StageTimes times_;
+    ReactionAccumulator reactions_;  // filled by step() when a solid is coupled
+    std::vector<SolidReaction> lastReactions_;
 };
 
 }  // namespace pbf

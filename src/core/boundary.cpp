@@ -42,48 +42,71 @@ void addNearWallContribution(const SolverConstants& c, const Vec3& x, float& ker
     add(c.domain.max.z - x.z, &Vec3::z, 1.0f);
 }
 
+SolidContribution solidContribution(const SolverConstants& c, const SolidSet& solids,
+                                    const Vec3& x) {
+    SolidContribution s;
+    Vec3 normal;
+    std::size_t nearest = kNoSolid;
+    const float distance = solids.signedDistance(x, c.wall.range, normal, &nearest);
+    if (!(distance < c.wall.range)) return s;
+    float slope = 0.0f;
+    sampleWallTable(c.wall, distance, s.kernelSum, slope);
+    s.gradient -= normal * slope;
+    s.solid = nearest;
+    // A finite body: the flat wall's value scaled to the body's shape
+    // (world/boundary_scale.hpp).
+    if (solids.hasBoundaryScale(nearest)) {
+        const float ratio = solids.boundaryScale(nearest, x);
+        s.kernelSum *= ratio;
+        s.gradient *= ratio;
+    }
+    return s;
+}
+
 void addNearSolidContribution(const SolverConstants& c, const SolidSet& solids, const Vec3& x,
                               float& kernelSum, Vec3& gradient) {
-    Vec3 normal;
-    const float distance = solids.signedDistance(x, c.wall.range, normal);
-    if (!(distance < c.wall.range)) return;
-    float kernel = 0.0f, slope = 0.0f;
-    sampleWallTable(c.wall, distance, kernel, slope);
-    kernelSum += kernel;
-    gradient -= normal * slope;
+    const SolidContribution s = solidContribution(c, solids, x);
+    if (s.solid == kNoSolid) return;
+    kernelSum += s.kernelSum;
+    gradient += s.gradient;
 }
 
 Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, const Vec3& start,
-                           Vec3 x) {
+                           Vec3 x, std::size_t* touched) {
     const float radius = c.particleRadius;
     const float reach = c.h;
     const float hitDistance = 0.05f * radius;
     Vec3 normal;
+    std::size_t nearest = kNoSolid;
     const Vec3 move = x - start;
     const float moveLength = length(move);
     // Sweep: sphere-trace from the start; the distance field guarantees no
     // surface closer than d, so each step of length d is safe.
-    const float startDistance = solids.signedDistance(start, moveLength + reach, normal);
+    const float startDistance = solids.signedDistance(start, moveLength + reach, normal, &nearest);
     if (startDistance < moveLength && moveLength > 0.0f) {
         const Vec3 direction = move * (1.0f / moveLength);
         float travelled = std::max(startDistance, 0.0f);
         bool hit = startDistance <= hitDistance;
         for (int step = 0; step < 64 && !hit && travelled < moveLength; ++step) {
-            const float d =
-                solids.signedDistance(start + direction * travelled, moveLength + reach, normal);
+            const float d = solids.signedDistance(start + direction * travelled, moveLength + reach,
+                                                  normal, &nearest);
             if (d <= hitDistance) {
                 hit = true;
                 break;
             }
             travelled += d;
         }
-        if (hit) x = start + direction * std::min(travelled, moveLength);
+        if (hit) {
+            x = start + direction * std::min(travelled, moveLength);
+            if (touched) *touched = nearest;
+        }
     }
     // Push out to one radius (twice: a corner between two solids).
     for (int pass = 0; pass < 2; ++pass) {
-        const float d = solids.signedDistance(x, reach, normal);
+        const float d = solids.signedDistance(x, reach, normal, &nearest);
         if (!(d < radius)) break;
         x += normal * (radius - d);
+        if (touched) *touched = nearest;
     }
     return clampToBox(c.collisionBox, x);
 }
@@ -109,7 +132,7 @@ Vec3 respondToWalls(const Aabb& box, float restitution, float friction, const Ve
 }
 
 Vec3 respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
-                     const Vec3& x, Vec3 v) {
+                     const Vec3& x, Vec3 v, std::size_t* touched) {
     const float contact = 1.05f * radius;
     Vec3 normal;
     std::size_t nearest = 0;
@@ -122,6 +145,7 @@ Vec3 respondToSolids(const SolidSet& solids, float radius, float restitution, fl
     if (vn >= 0.0f) return v;  // separating
     const Vec3 tangential = relative - normal * vn;
     const float keep = frictionKeep(friction, restitution, -vn, length(tangential));
+    if (touched) *touched = nearest;
     return surface + tangential * keep - normal * (restitution * vn);
 }
 

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
+#include <limits>
 
 #include "pbf/config.hpp"
 #include "pbf/solids.hpp"
@@ -18,6 +20,20 @@ PBF_HD inline Vec3 clampToBox(const Aabb& box, const Vec3& p) {
     return {std::clamp(p.x, box.min.x, box.max.x), std::clamp(p.y, box.min.y, box.max.y),
             std::clamp(p.z, box.min.z, box.max.z)};
 }
+
+// "No solid" for the functions below that name the solid a particle touched.
+inline constexpr std::size_t kNoSolid = std::numeric_limits<std::size_t>::max();
+
+// The nearest solid's share of a particle's density: its kernel sum, the
+// gradient of that sum with respect to x (into the solid), and which solid
+// it is (kNoSolid and zeros when none is within reach).
+struct SolidContribution {
+    float kernelSum = 0.0f;
+    Vec3 gradient;
+    std::size_t solid = kNoSolid;
+};
+SolidContribution solidContribution(const SolverConstants& c, const SolidSet& solids,
+                                    const Vec3& x);
 
 // The out-of-line parts of the two functions below.
 void addNearWallContribution(const SolverConstants& c, const Vec3& x, float& kernelSum,
@@ -51,8 +67,10 @@ inline void addSolidContribution(const SolverConstants& c, const SolidSet* solid
 // the distance field: if it enters a solid, x stops at the surface, so no
 // step can carry a particle through a thin wall. Then x is pushed out along
 // the surface normal to distance r. Returns the new x, inside the collision box.
+// `touched` (may be null) receives the solid that stopped or pushed the
+// particle (the last one, at a corner of two), else is left unchanged.
 Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, const Vec3& start,
-                           Vec3 x);
+                           Vec3 x, std::size_t* touched = nullptr);
 
 // Velocity response of a particle at x touching a wall of the collision box:
 // the normal velocity into the wall is reflected with `restitution`; the
@@ -61,8 +79,9 @@ Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, con
 Vec3 respondToWalls(const Aabb& box, float restitution, float friction, const Vec3& x, Vec3 v);
 
 // The same against the solids, relative to the velocity of the solid's
-// surface at the contact (zero for static solids).
+// surface at the contact (zero for static solids). `touched` (may be null)
+// receives the solid whose contact changed v, else is left unchanged.
 Vec3 respondToSolids(const SolidSet& solids, float radius, float restitution, float friction,
-                     const Vec3& x, Vec3 v);
+                     const Vec3& x, Vec3 v, std::size_t* touched = nullptr);
 
 }  // namespace pbf::boundary

@@ -6,13 +6,10 @@
 #include <utility>
 #include <vector>
 
+#include "core/blocks.hpp"
 #include "pbf/threading.hpp"
 
 namespace pbf::detail {
-
-// Particles per work item: large enough to amortise scheduling, small enough
-// to balance two threads on a few thousand particles.
-inline constexpr std::size_t kBlockSize = 1024;
 
 // Calls fn(begin, end) over [0, n) in blocks of `blockSize`, in parallel.
 // Each index is visited exactly once; fn must write only the entries of its

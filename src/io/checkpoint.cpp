@@ -113,6 +113,7 @@ std::string serialize(const Checkpoint& c) {
     w.array(p.density);
     w.array(p.id);
     w.array(c.emitters);
+    w.array(c.bodies);
     const RunTotals& t = c.totals;
     w.value<std::int64_t>(t.substeps);
     w.value(t.solverMilliseconds);
@@ -122,6 +123,7 @@ std::string serialize(const Checkpoint& c) {
     w.value(t.maxEscaped);
     w.value(t.maxInsideSolid);
     w.string(t.statsCsv);
+    w.string(t.bodiesCsv);
     return w.bytes();
 }
 
@@ -143,6 +145,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     r.array(p.density, "density");
     r.array(p.id, "id");
     r.array(c.emitters, "emitters");
+    r.array(c.bodies, "rigid bodies");
     RunTotals& t = c.totals;
     t.substeps = r.value<std::int64_t>("substeps");
     t.solverMilliseconds = r.value<double>("solver time");
@@ -152,6 +155,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     t.maxEscaped = r.value<std::uint64_t>("max escaped");
     t.maxInsideSolid = r.value<std::uint64_t>("max inside solid");
     t.statsCsv = r.string("stats.csv");
+    t.bodiesCsv = r.string("bodies.csv");
     if (!r.atEnd()) fail(name, "corrupt checkpoint: trailing bytes");
 
     // The checksum passed, so these only fail for a file written by a buggy
@@ -184,6 +188,7 @@ Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint)
     c.time = state.time;
     c.particles = std::move(state.particles);
     c.emitters = std::move(state.emitters);
+    c.bodies = std::move(state.bodies);
     return c;
 }
 
@@ -205,10 +210,14 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
     if (c.emitters.size() != world.emitters().size())
         fail(name, fmt::format("corrupt checkpoint: {} emitter states for a scene with {} emitters",
                                c.emitters.size(), world.emitters().size()));
+    if (c.bodies.size() != world.bodyCount())
+        fail(name, fmt::format("corrupt checkpoint: {} rigid body states for a scene with {} bodies",
+                               c.bodies.size(), world.bodyCount()));
     WorldState state;
     state.particles = c.particles;
     state.particles.predicted = state.particles.position;
     state.emitters = c.emitters;
+    state.bodies = c.bodies;
     state.frame = c.frame;
     state.time = c.time;
     world.restoreState(std::move(state));
@@ -270,7 +279,7 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
 }
 
 std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes) {
-    // Header, scalars and length prefixes (< 512 bytes), 8 arrays of 4 bytes per particle, the CSV.
+    // Header, scalars and length prefixes (< 512 bytes), 8 arrays of 4 bytes per particle, the CSVs.
     return kHeaderBytes + 512 + std::uintmax_t{particles} * 32 + csvBytes;
 }
 

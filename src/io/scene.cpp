@@ -203,6 +203,48 @@ void readRenderOutput(JsonReader& o, RenderOutput& render) {
     }
 }
 
+// The shape fields shared by `solids` and `rigid_bodies` (docs/scenes.md).
+// Bodies have no planes; a body box may be rotated about its centre.
+void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& folder,
+               bool body) {
+    const std::string type = r.string("type", "");
+    if (type == "box") {
+        d.kind = SolidDescription::Kind::Box;
+        d.box = readBox(r);
+        if (body) d.transform.rotationDegrees = r.vec3("rotation", {});
+    } else if (type == "sphere") {
+        d.kind = SolidDescription::Kind::Sphere;
+        d.center = r.requiredVec3("center");
+        d.radius = positive(r, "radius", 0.0f);
+    } else if (type == "plane" && !body) {
+        d.kind = SolidDescription::Kind::Plane;
+        d.point = r.requiredVec3("point");
+        d.normal = direction(r, "normal", {0, 1, 0});
+    } else if (type == "cylinder") {
+        d.kind = SolidDescription::Kind::Cylinder;
+        d.base = r.requiredVec3("base");
+        d.axis = direction(r, "axis", {0, 1, 0});
+        d.radius = positive(r, "radius", 0.0f);
+        d.height = positive(r, "height", 0.0f);
+    } else if (type == "mesh") {
+        d.kind = SolidDescription::Kind::Mesh;
+        const std::string file = r.string("file", "");
+        if (file.empty()) r.fail("file", "missing (required): path of an OBJ file");
+        d.file = std::filesystem::path(file).is_absolute() ? file : (folder / file).string();
+        d.transform.scale = readScale(r);
+        if (!(d.transform.scale.x > 0 && d.transform.scale.y > 0 && d.transform.scale.z > 0))
+            r.fail("scale", "must be positive");
+        d.transform.rotationDegrees = r.vec3("rotation", {});
+        d.transform.translation = r.vec3("translation", {});
+    } else if (body) {
+        r.fail("type", "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\", got \"" +
+                           type + "\"");
+    } else {
+        r.fail("type", "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" +
+                           type + "\"");
+    }
+}
+
 void readSolids(JsonReader& root, Scene& scene) {
     const json& solids = root.array("solids");
     const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
@@ -210,41 +252,38 @@ void readSolids(JsonReader& root, Scene& scene) {
         SolidDescription d;
         d.field = "solids[" + std::to_string(i) + "]";
         JsonReader r(solids[i], d.field, scene.source);
-        const std::string type = r.string("type", "");
-        if (type == "box") {
-            d.kind = SolidDescription::Kind::Box;
-            d.box = readBox(r);
-        } else if (type == "sphere") {
-            d.kind = SolidDescription::Kind::Sphere;
-            d.center = r.requiredVec3("center");
-            d.radius = positive(r, "radius", 0.0f);
-        } else if (type == "plane") {
-            d.kind = SolidDescription::Kind::Plane;
-            d.point = r.requiredVec3("point");
-            d.normal = direction(r, "normal", {0, 1, 0});
-        } else if (type == "cylinder") {
-            d.kind = SolidDescription::Kind::Cylinder;
-            d.base = r.requiredVec3("base");
-            d.axis = direction(r, "axis", {0, 1, 0});
-            d.radius = positive(r, "radius", 0.0f);
-            d.height = positive(r, "height", 0.0f);
-        } else if (type == "mesh") {
-            d.kind = SolidDescription::Kind::Mesh;
-            const std::string file = r.string("file", "");
-            if (file.empty()) r.fail("file", "missing (required): path of an OBJ file");
-            d.file = std::filesystem::path(file).is_absolute() ? file : (folder / file).string();
-            d.transform.scale = readScale(r);
-            if (!(d.transform.scale.x > 0 && d.transform.scale.y > 0 && d.transform.scale.z > 0))
-                r.fail("scale", "must be positive");
-            d.transform.rotationDegrees = r.vec3("rotation", {});
-            d.transform.translation = r.vec3("translation", {});
-        } else {
-            r.fail("type",
-                   "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" +
-                       type + "\"");
-        }
+        readShape(r, d, folder, false);
         r.finish();
         scene.solids.push_back(d);
+    }
+}
+
+// Ranges (density, friction, ...) are checked by validate(WorldDef); here
+// the types, the shape and that exactly one of density and mass is given.
+void readRigidBodies(JsonReader& root, Scene& scene) {
+    const json& bodies = root.array("rigid_bodies");
+    const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        RigidBodyDescription b;
+        b.field = "rigid_bodies[" + std::to_string(i) + "]";
+        b.shape.field = b.field;
+        JsonReader r(bodies[i], b.field, scene.source);
+        readShape(r, b.shape, folder, true);
+        if (r.has("density") == r.has("mass"))
+            r.fail("density", "give exactly one of density (kg/m^3) and mass (kg)");
+        if (r.has("density")) {
+            b.density = r.number("density", 0.0f);
+            if (!(b.density > 0.0f)) r.fail("density", "must be positive, got " + std::to_string(b.density));
+        } else {
+            b.mass = r.number("mass", 0.0f);
+            if (!(b.mass > 0.0f)) r.fail("mass", "must be positive, got " + std::to_string(b.mass));
+        }
+        b.velocity = r.vec3("velocity", {});
+        b.angularVelocity = r.vec3("angular_velocity", {});
+        b.friction = r.number("friction", b.friction);
+        b.restitution = r.number("restitution", b.restitution);
+        r.finish();
+        scene.rigidBodies.push_back(b);
     }
 }
 
@@ -384,6 +423,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         g.finish();
     }
     readSolids(root, scene);
+    readRigidBodies(root, scene);
     readEmitters(root, scene);
     readFluidBlocks(root, scene);
     root.finish();

@@ -67,6 +67,10 @@ void FrameImages::write(int frame, const RenderParticles& particles) {
     seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+void FrameImages::setSolids(const SolidMesh& solids) {
+    impl_->renderer.setSolids(solids);
+}
+
 std::string FrameImages::rendererName() const {
     return impl_->context.rendererName();
 }

@@ -74,6 +74,8 @@ void SimulationWorker::publish(const World& world, const FrameReport* stepped, d
     }
     s.report = stepped != nullptr ? *stepped : world.report();
     s.frameMs = frameMs;
+    for (const RigidBodyInfo& body : world.bodyInfos())
+        s.bodyPoses.push_back(world.solids().motion(body.solid).pose);
     std::lock_guard lock(mutex_);
     s.version = snapshot_.version + 1;
     snapshot_ = std::move(s);

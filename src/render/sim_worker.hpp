@@ -29,6 +29,9 @@ struct Snapshot {
     std::vector<float> density;
     FrameReport report;
     double frameMs = 0.0;  // wall-clock ms of the last simulated frame
+    // Pose of each rigid body's surface (the pose of its solid in
+    // World::solids(), for render::tessellateBodyShapes' meshes).
+    std::vector<Pose> bodyPoses;
 };
 
 class SimulationWorker {

@@ -177,6 +177,60 @@ void appendSolid(SolidMesh& mesh, const SolidDescription& solid, const Aabb& dom
     }
 }
 
+std::vector<SolidMesh> tessellateBodyShapes(const Scene& scene) {
+    using Kind = SolidDescription::Kind;
+    std::vector<SolidMesh> shapes;
+    for (const RigidBodyDescription& body : scene.rigidBodies) {
+        SolidDescription local = body.shape;  // the shape in its own frame
+        switch (local.kind) {
+            case Kind::Box: {
+                const Vec3 half = local.box.extent() * 0.5f;
+                local.box = {-half, half};
+                break;
+            }
+            case Kind::Sphere:
+                local.center = {};
+                break;
+            case Kind::Cylinder:
+                local.base = {0.0f, -0.5f * local.height, 0.0f};
+                local.axis = {0.0f, 1.0f, 0.0f};
+                break;
+            case Kind::Mesh:
+                local.transform.rotationDegrees = {};
+                local.transform.translation = {};
+                break;
+            case Kind::Plane:
+                break;
+        }
+        SolidMesh mesh;
+        try {
+            appendSolid(mesh, local, scene.simulation.domain);
+        } catch (const SolidError& e) {
+            throw SceneError(scene.source + ": " + body.field + ".file: " + e.what());
+        }
+        shapes.push_back(std::move(mesh));
+    }
+    return shapes;
+}
+
+void appendPosed(SolidMesh& out, const SolidMesh& shape, const Pose& pose) {
+    out.data.reserve(out.data.size() + shape.data.size());
+    for (std::size_t k = 0; k + 5 < shape.data.size(); k += 6) {
+        const Vec3 p = pose.toWorld({shape.data[k], shape.data[k + 1], shape.data[k + 2]});
+        const Vec3 n =
+            pose.directionToWorld({shape.data[k + 3], shape.data[k + 4], shape.data[k + 5]});
+        out.data.insert(out.data.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
+    }
+}
+
+SolidMesh posedSolids(const SolidMesh& statics, const std::vector<SolidMesh>& bodyShapes,
+                      const World& world) {
+    SolidMesh mesh = statics;
+    for (std::size_t k = 0; k < bodyShapes.size() && k < world.bodyCount(); ++k)
+        appendPosed(mesh, bodyShapes[k], world.solids().motion(world.bodyInfos()[k].solid).pose);
+    return mesh;
+}
+
 SolidMesh tessellateSolids(const Scene& scene) {
     SolidMesh mesh;
     for (const SolidDescription& solid : scene.solids) {

@@ -162,7 +162,9 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     SceneRenderer renderer;
     renderer.setDomain(scene.simulation.domain);
     renderer.setParticleRadius(scene.simulation.particleRadius);
-    renderer.setSolids(tessellateSolids(scene));
+    const SolidMesh statics = tessellateSolids(scene);
+    const std::vector<SolidMesh> bodyShapes = tessellateBodyShapes(scene);
+    renderer.setSolids(statics);
     OrbitCamera camera = defaultViewerCamera(scene.simulation.domain, options);
 
     RenderSettings settings = options.settings;
@@ -197,6 +199,12 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
         if (worker.takeSnapshot(snapshot) || settings.color != uploadedMode) {
             renderer.upload(toRenderParticles(snapshot, settings.color));
             uploadedMode = settings.color;
+            if (!bodyShapes.empty()) {  // the bodies at this snapshot's poses
+                SolidMesh solids = statics;
+                for (std::size_t k = 0; k < bodyShapes.size() && k < snapshot.bodyPoses.size(); ++k)
+                    appendPosed(solids, bodyShapes[k], snapshot.bodyPoses[k]);
+                renderer.setSolids(solids);
+            }
         }
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();

@@ -21,6 +21,32 @@ std::string statsCsvRow(const FrameReport& r) {
         (r.stageMs.predict + r.stageMs.postProcess) * perStep);
 }
 
+std::string bodiesCsvHeader() {
+    return "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz";
+}
+
+// Centre of mass (m), orientation of the principal axes (unit quaternion),
+// linear (m/s) and angular (rad/s) velocity, then the fluid's force (N) and
+// torque about the centre of mass (N m) averaged over the frame.
+std::string bodiesCsvRows(const World& world) {
+    std::string rows;
+    const auto& states = world.bodyStates();
+    const auto& loads = world.bodyLoads();
+    for (std::size_t k = 0; k < states.size(); ++k) {
+        const RigidBodyState& b = states[k];
+        const RigidBodyLoad& l = loads[k];
+        rows += fmt::format(
+            "{},{:.6f},{},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},"
+            "{:.7g},{:.7g},{:.7g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+            world.frame(), world.time(), k, b.position.x, b.position.y, b.position.z,
+            b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z, b.velocity.x,
+            b.velocity.y, b.velocity.z, b.angularVelocity.x, b.angularVelocity.y,
+            b.angularVelocity.z, l.force.x, l.force.y, l.force.z, l.torque.x, l.torque.y,
+            l.torque.z);
+    }
+    return rows;
+}
+
 std::filesystem::path frameFileName(int frame) {
     return fmt::format("frame_{:05d}.ply", frame);
 }

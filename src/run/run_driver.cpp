@@ -14,8 +14,33 @@
 namespace pbf::detail {
 namespace {
 
-void writeSummary(const std::filesystem::path& file, const Scene& scene, BackendKind backend,
+nlohmann::json vec3(const Vec3& v) {
+    return nlohmann::json::array({v.x, v.y, v.z});
+}
+
+// The rigid bodies at the end of the run: what each is and its last state.
+nlohmann::json bodiesJson(const World& world) {
+    nlohmann::json bodies = nlohmann::json::array();
+    for (std::size_t k = 0; k < world.bodyCount(); ++k) {
+        const RigidBodyInfo& info = world.bodyInfos()[k];
+        const RigidBodyState& b = world.bodyStates()[k];
+        const Quat& q = b.orientation;
+        bodies.push_back({{"body", k},
+                          {"field", info.field},
+                          {"shape", info.describe},
+                          {"mass", info.mass},
+                          {"volume", info.volume},
+                          {"position", vec3(b.position)},
+                          {"orientation", nlohmann::json::array({q.w, q.x, q.y, q.z})},
+                          {"velocity", vec3(b.velocity)},
+                          {"angular_velocity", vec3(b.angularVelocity)}});
+    }
+    return bodies;
+}
+
+void writeSummary(const std::filesystem::path& file, const Scene& scene, const World& world,
                   const RunSummary& s) {
+    const BackendKind backend = world.backend().kind();
     nlohmann::json j;
     j["pbf_version"] = kVersion;
     j["scene"] = scene.name;
@@ -38,6 +63,7 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, Backend
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
     j["backend"] = std::string(backendName(backend));
+    if (world.bodyCount() > 0) j["bodies"] = bodiesJson(world);
     if (s.error) j["error"] = s.error->message;
     writeFileAtomically(file, [&](std::ostream& out) {
         out << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
@@ -132,6 +158,9 @@ void RunDriver::resumeFromCheckpoint() {
     // killed run: put it back to the checkpoint's rows; they are recomputed.
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
     if (output_.writeVtk) restoreCollection();
+    if (world_.bodyCount() > 0)
+        writeFileAtomically(dir_ / "bodies.csv",
+                            [&](std::ostream& out) { out << totals_.bodiesCsv; });
     notice(world_.frame() >= output_.frames
                ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}",
                              file.string(), world_.frame(), output_.frames)
@@ -146,7 +175,8 @@ void RunDriver::warnIfDiskTooSmall() const {
     if (ec || remaining <= 0) return;
     const std::size_t n = world_.particleCount();
     const double needed = double(frameBytes(output_, n)) * remaining +
-                          double(checkpointBytes(n, totals_.statsCsv.size()));
+                          double(checkpointBytes(n, totals_.statsCsv.size() +
+                                                        totals_.bodiesCsv.size()));
     if (double(space.available) < needed)
         notice(fmt::format(
             "{}: the {} remaining frames need about {:.0f} MiB but only {:.0f} MiB are free; the "
@@ -163,7 +193,8 @@ void RunDriver::checkFreeSpace() const {
     if (ec) return;  // unknown (some network file systems): the writes report failures
     const std::size_t n = world_.particleCount();
     const std::uintmax_t frame = frameBytes(output_, n) + 512;  // + a stats row
-    const std::uintmax_t needed = frame + checkpointBytes(n, totals_.statsCsv.size());
+    const std::uintmax_t needed =
+        frame + checkpointBytes(n, totals_.statsCsv.size() + totals_.bodiesCsv.size());
     if (space.available < needed + options_.reserveBytes)
         throw IoError(
             fmt::format("{}: output disk full: {:.1f} MiB free, but the next frame and its "
@@ -177,6 +208,9 @@ void RunDriver::checkFreeSpace() const {
 void RunDriver::startStats() {
     totals_.statsCsv = statsCsvHeader() + "\n";
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
+    if (world_.bodyCount() == 0) return;
+    totals_.bodiesCsv = bodiesCsvHeader() + "\n";
+    writeFileAtomically(dir_ / "bodies.csv", [&](std::ostream& out) { out << totals_.bodiesCsv; });
 }
 
 void RunDriver::record(const FrameReport& report) {
@@ -189,6 +223,11 @@ void RunDriver::record(const FrameReport& report) {
     const std::string row = statsCsvRow(report) + "\n";
     appendToFile(dir_ / "stats.csv", row);
     totals_.statsCsv += row;
+    if (world_.bodyCount() > 0) {
+        const std::string rows = bodiesCsvRows(world_);
+        appendToFile(dir_ / "bodies.csv", rows);
+        totals_.bodiesCsv += rows;
+    }
     totals_.maxDensityError = std::max(totals_.maxDensityError, report.state.maxDensityError);
     totals_.maxEscaped = std::max<std::uint64_t>(totals_.maxEscaped, report.state.escaped);
     totals_.maxInsideSolid =
@@ -312,7 +351,7 @@ RunSummary RunDriver::finish() {
         totals_.solverMilliseconds > 0.0
             ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
             : 0.0;
-    writeSummary(dir_ / "summary.json", scene_, world_.backend().kind(), s);
+    writeSummary(dir_ / "summary.json", scene_, world_, s);
     return s;
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "world/boundary_scale.hpp"
+
 namespace pbf {
 namespace {
 
@@ -166,11 +168,15 @@ Aabb worldBounds(const Aabb& local, const Pose& pose) {
 
 }  // namespace
 
-void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion) {
+void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion, bool coupled) {
     shapes_.push_back(std::move(shape));
     motions_.emplace_back();
     identity_.push_back(true);
     bounds_.emplace_back();
+    coupled_.push_back(coupled);
+    scales_.emplace_back();
+    index_.valid = false;
+    anyCoupled_ = anyCoupled_ || coupled;
     setMotion(shapes_.size() - 1, motion);
 }
 
@@ -178,9 +184,19 @@ void SolidSet::setMotion(std::size_t i, const SolidMotion& motion) {
     motions_.at(i) = motion;
     identity_[i] = motion.pose.identity();
     bounds_[i] = worldBounds(shapes_[i]->bounds(), motion.pose);
+    index_.valid = false;  // until the next buildIndex()
     moving_ = false;
     for (const SolidMotion& m : motions_)
         moving_ = moving_ || !(m.velocity == Vec3{}) || !(m.angularVelocity == Vec3{});
+}
+
+void SolidSet::setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale) {
+    scales_.at(i) = std::move(scale);
+}
+
+float SolidSet::boundaryScale(std::size_t i, const Vec3& p) const {
+    if (!scales_[i]) return 1.0f;
+    return scales_[i]->at(identity_[i] ? p : motions_[i].pose.toLocal(p));
 }
 
 float SolidSet::distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const {
@@ -195,8 +211,8 @@ float SolidSet::distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const {
 float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
                                std::size_t* nearest) const {
     float best = reach;
-    for (std::size_t k = 0; k < shapes_.size(); ++k) {
-        if (!within(bounds_[k], p, reach)) continue;
+    const auto consider = [&](std::size_t k) {
+        if (!within(bounds_[k], p, reach)) return;
         Vec3 n;
         const float d = distanceTo(k, p, n);
         if (d < best) {
@@ -204,8 +220,73 @@ float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
             normal = n;
             if (nearest) *nearest = k;
         }
+    };
+    if (index_.valid && reach <= index_.margin && index_.box.contains(p)) {
+        const Vec3 g = (p - index_.box.min) * index_.inverseCell;
+        const int i = std::min(int(g.x), index_.nx - 1), j = std::min(int(g.y), index_.ny - 1),
+                  k = std::min(int(g.z), index_.nz - 1);
+        const std::size_t cell = (std::size_t(k) * index_.ny + j) * index_.nx + i;
+        for (std::uint32_t m = index_.start[cell]; m < index_.start[cell + 1]; ++m)
+            consider(index_.items[m]);
+        return best;
     }
+    for (std::size_t k = 0; k < shapes_.size(); ++k) consider(k);
     return best;
+}
+
+void SolidSet::buildIndex(const Aabb& box, float margin) {
+    Index& x = index_;
+    x.valid = false;
+    // Worth it only for many solids; a few are tested faster one by one.
+    if (shapes_.size() < 8 || !(margin > 0.0f)) return;
+    const Vec3 e = box.extent();
+    const float cell = std::max(margin, std::max(e.x, std::max(e.y, e.z)) / 128.0f);
+    x.box = box;
+    x.margin = margin;
+    x.inverseCell = 1.0f / cell;
+    x.nx = std::max(1, int(std::ceil(e.x * x.inverseCell)));
+    x.ny = std::max(1, int(std::ceil(e.y * x.inverseCell)));
+    x.nz = std::max(1, int(std::ceil(e.z * x.inverseCell)));
+    const std::size_t cells = std::size_t(x.nx) * x.ny * x.nz;
+    // Cell ranges of each solid's bounds grown by the margin, clamped to the grid.
+    const auto range = [&](std::size_t k, int lo[3], int hi[3]) {
+        const int n[3] = {x.nx, x.ny, x.nz};
+        for (int a = 0; a < 3; ++a) {
+            // Clamped as floats first: a plane's bounds are the whole domain,
+            // a far solid's may be huge.
+            const float l = std::clamp((bounds_[k].min[a] - margin - box.min[a]) * x.inverseCell,
+                                       -1.0f, float(n[a]) + 1.0f);
+            const float h = std::clamp((bounds_[k].max[a] + margin - box.min[a]) * x.inverseCell,
+                                       -1.0f, float(n[a]) + 1.0f);
+            if (h < 0.0f || l >= float(n[a])) return false;
+            lo[a] = std::clamp(int(std::floor(l)), 0, n[a] - 1);
+            hi[a] = std::clamp(int(std::floor(h)), 0, n[a] - 1);
+        }
+        return true;
+    };
+    x.start.assign(cells + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        if (pass == 1) {
+            for (std::size_t c = 0; c < cells; ++c) x.start[c + 1] += x.start[c];
+            x.items.resize(x.start[cells]);
+        }
+        std::vector<std::uint32_t> fill(pass == 1 ? x.start.begin() : x.start.end(),
+                                        pass == 1 ? x.start.end() - 1 : x.start.end());
+        for (std::size_t k = 0; k < shapes_.size(); ++k) {
+            int lo[3], hi[3];
+            if (!range(k, lo, hi)) continue;
+            for (int c = lo[2]; c <= hi[2]; ++c)
+                for (int b = lo[1]; b <= hi[1]; ++b)
+                    for (int a = lo[0]; a <= hi[0]; ++a) {
+                        const std::size_t cellIndex = (std::size_t(c) * x.ny + b) * x.nx + a;
+                        if (pass == 0)
+                            ++x.start[cellIndex + 1];
+                        else
+                            x.items[fill[cellIndex]++] = std::uint32_t(k);
+                    }
+        }
+    }
+    x.valid = true;
 }
 
 std::unique_ptr<Solid> makeBoxSolid(const Aabb& box) {

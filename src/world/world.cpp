@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <exception>
 #include <utility>
+
+#include "world/rigid_bodies.hpp"
 
 namespace pbf {
 
@@ -18,6 +21,9 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     settings_ = def_.simulation;
     constants_ = SolverConstants::from(settings_);
     solids_ = buildSolids(def_);
+    // Bodies add their surfaces to the solids, so no particle starts inside one.
+    bodies_ = std::make_unique<detail::RigidBodies>(def_, *solids_);
+    indexSolids();
     backend_ = makeBackend(options.backend, settings_, options.backendOptions);
     backend_->upload(createParticles(def_, solids_.get(), &skipped_));
     for (const EmitterDescription& e : def_.emitters) emitters_.emplace_back(e, settings_);
@@ -48,13 +54,22 @@ void World::applySettings(const SimulationParams& settings) {
 }
 
 std::optional<StepError> World::checkState(int substep, double time, const char* stage) const {
-    const std::optional<BadParticle> bad = backend_->findBadParticle(speedLimit_);
-    if (!bad) return std::nullopt;
     StepError error;
     error.kind = StepError::Kind::BadState;
     error.frame = frame_ + 1;
     error.substep = substep;
     error.stage = stage;
+    if (const std::size_t body = bodies_->firstBadBody(); body < bodies_->size()) {
+        const RigidBodyState& b = bodies_->states()[body];
+        error.message = fmt::format(
+            "bad state in frame {} substep {} ({}, t = {:.6f} s): {} at ({:.6g}, {:.6g}, {:.6g}) "
+            "with velocity ({:.6g}, {:.6g}, {:.6g}): not finite",
+            error.frame, substep, stage, time, bodies_->infos()[body].field, b.position.x,
+            b.position.y, b.position.z, b.velocity.x, b.velocity.y, b.velocity.z);
+        return error;
+    }
+    const std::optional<BadParticle> bad = backend_->findBadParticle(speedLimit_);
+    if (!bad) return std::nullopt;
     error.message = fmt::format(
         "bad state in frame {} substep {} ({}, t = {:.6f} s): particle id {} at ({:.6g}, {:.6g}, "
         "{:.6g}): {}",
@@ -67,7 +82,8 @@ std::optional<StepError> World::checkState(int substep, double time, const char*
 double World::adaptiveSubstep(double remaining) const {
     const SolverParams& s = settings_.solver;
     const double maxDt = s.maxTimeStep;
-    const double speed = double(backend_->maxSpeed()) + length(settings_.gravity) * maxDt;
+    const double fastest = std::max(backend_->maxSpeed(), bodies_->maxSurfaceSpeed());
+    const double speed = fastest + length(settings_.gravity) * maxDt;
     double dt = maxDt;
     if (speed > 0.0) dt = std::min(dt, s.cfl * settings_.particleSpacing() / speed);
     dt = std::max(dt, frameDuration() / s.maxSubsteps);
@@ -92,6 +108,7 @@ FrameResult World::stepFrame() {
         if (result.error) return result;
         double elapsed = 0.0;
         std::vector<Vec3> emitted;
+        bodies_->beginFrame(frameDt);
         while (remaining > 1e-12 * frameDt) {
             double dt = s.timeStepMode == TimeStepMode::Fixed ? frameDt / s.fixedSubsteps
                                                               : adaptiveSubstep(remaining);
@@ -103,8 +120,21 @@ FrameResult World::stepFrame() {
                 const std::vector<Vec3> velocities(emitted.size(), emitter.velocity());
                 backend_->append(emitted, velocities, settings_.fluid.restDensity);
             }
+            // Two-way coupling (world/rigid_bodies.hpp): the fluid steps
+            // against the bodies' surfaces where they will be, then its
+            // reaction moves the bodies.
+            bodies_->placeForFluid(dt, *solids_);
+            indexSolids();
             backend_->step(context(), static_cast<float>(dt));
             report.stageMs += backend_->lastStageTimes();
+            const auto bodiesStart = std::chrono::steady_clock::now();
+            bodies_->advance(dt, settings_.gravity, backend_->lastReactions(), *solids_);
+            indexSolids();
+            const double bodiesMs = std::chrono::duration<double, std::milli>(
+                                        std::chrono::steady_clock::now() - bodiesStart)
+                                        .count();
+            report.stageMs.bodies += bodiesMs;
+            report.stageMs.total += bodiesMs;
             report.iterations = static_cast<int>(backend_->lastStageTimes().iterations);
             remaining -= dt;
             elapsed += dt;
@@ -225,13 +255,48 @@ void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
     if (i >= solids_->size())
         throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) + " (the world has " +
                                 std::to_string(solids_->size()) + ")");
+    if (solids_->coupled(i))
+        throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
+                                    " is a rigid body's surface; use setBodyState");
     solids_->setMotion(i, motion);
+    indexSolids();
+}
+
+std::size_t World::bodyCount() const {
+    return bodies_->size();
+}
+const std::vector<RigidBodyInfo>& World::bodyInfos() const {
+    return bodies_->infos();
+}
+const std::vector<RigidBodyState>& World::bodyStates() const {
+    return bodies_->states();
+}
+const std::vector<RigidBodyLoad>& World::bodyLoads() const {
+    return bodies_->loads();
+}
+
+void World::setBodyState(std::size_t i, const RigidBodyState& state) {
+    if (i >= bodies_->size())
+        throw std::out_of_range("setBodyState: no rigid body " + std::to_string(i) +
+                                " (the world has " + std::to_string(bodies_->size()) + ")");
+    bodies_->setState(i, state, *solids_);
+    indexSolids();
+}
+
+// The solids' lookup grid (SolidSet::buildIndex) with the largest reach the
+// solver asks for: the sweep's move (under a CFL step) plus a kernel radius.
+void World::indexSolids() {
+    const float margin = constants_.h + 2.0f * settings_.particleRadius;
+    const Vec3 pad{margin, margin, margin};
+    solids_->buildIndex({def_.simulation.domain.min - pad, def_.simulation.domain.max + pad},
+                        margin);
 }
 
 WorldState World::captureState() const {
     WorldState state;
     backend_->download(state.particles);
     for (const Emitter& e : emitters_) state.emitters.push_back(e.state());
+    state.bodies = bodies_->states();
     state.frame = frame_;
     state.time = time_;
     return state;
@@ -242,7 +307,13 @@ void World::restoreState(WorldState state) {
         throw std::invalid_argument("World::restoreState: " + std::to_string(state.emitters.size()) +
                                     " emitter states for " + std::to_string(emitters_.size()) +
                                     " emitters");
+    if (state.bodies.size() != bodies_->size())
+        throw std::invalid_argument("World::restoreState: " + std::to_string(state.bodies.size()) +
+                                    " body states for " + std::to_string(bodies_->size()) +
+                                    " rigid bodies");
     for (std::size_t k = 0; k < emitters_.size(); ++k) emitters_[k].setState(state.emitters[k]);
+    bodies_->setStates(std::move(state.bodies), *solids_);
+    indexSolids();
     backend_->upload(std::move(state.particles));
     frame_ = state.frame;
     time_ = state.time;

@@ -65,45 +65,75 @@ std::string validateBlocks(const WorldDef& def) {
     return {};
 }
 
-std::string validateSolids(const WorldDef& def) {
+// The shape of a solid or a rigid body; `field` is how messages name it.
+std::string validateShape(const SolidDescription& d, const std::string& field) {
     using Kind = SolidDescription::Kind;
-    for (std::size_t i = 0; i < def.solids.size(); ++i) {
-        const SolidDescription& d = def.solids[i];
-        const std::string field = fieldOf(d.field, "solids", i);
-        switch (d.kind) {
-            case Kind::Box:
-                if (!finite(d.box.min) || !finite(d.box.max) || !positiveBox(d.box))
-                    return field + ".max: must be greater than min on every axis";
-                break;
-            case Kind::Sphere:
-                if (!finite(d.center)) return field + ".center: must be finite";
-                if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
-                    return field + ".radius: must be positive";
-                break;
-            case Kind::Plane:
-                if (!finite(d.point)) return field + ".point: must be finite";
-                if (!(length(d.normal) > 0.0f) || !finite(d.normal))
-                    return field + ".normal: must be a non-zero vector";
-                break;
-            case Kind::Cylinder:
-                if (!finite(d.base)) return field + ".base: must be finite";
-                if (!(length(d.axis) > 0.0f) || !finite(d.axis))
-                    return field + ".axis: must be a non-zero vector";
-                if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
-                    return field + ".radius: must be positive";
-                if (!(d.height > 0.0f) || !std::isfinite(d.height))
-                    return field + ".height: must be positive";
-                break;
-            case Kind::Mesh: {
-                if (d.file.empty()) return field + ".file: missing (required): path of an OBJ file";
-                const Vec3& s = d.transform.scale;
-                if (!(s.x > 0 && s.y > 0 && s.z > 0) || !finite(s))
-                    return field + ".scale: must be positive";
-                if (!finite(d.transform.rotationDegrees)) return field + ".rotation: must be finite";
-                if (!finite(d.transform.translation)) return field + ".translation: must be finite";
-                break;
-            }
+    switch (d.kind) {
+        case Kind::Box:
+            if (!finite(d.box.min) || !finite(d.box.max) || !positiveBox(d.box))
+                return field + ".max: must be greater than min on every axis";
+            break;
+        case Kind::Sphere:
+            if (!finite(d.center)) return field + ".center: must be finite";
+            if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
+                return field + ".radius: must be positive";
+            break;
+        case Kind::Plane:
+            if (!finite(d.point)) return field + ".point: must be finite";
+            if (!(length(d.normal) > 0.0f) || !finite(d.normal))
+                return field + ".normal: must be a non-zero vector";
+            break;
+        case Kind::Cylinder:
+            if (!finite(d.base)) return field + ".base: must be finite";
+            if (!(length(d.axis) > 0.0f) || !finite(d.axis))
+                return field + ".axis: must be a non-zero vector";
+            if (!(d.radius > 0.0f) || !std::isfinite(d.radius))
+                return field + ".radius: must be positive";
+            if (!(d.height > 0.0f) || !std::isfinite(d.height))
+                return field + ".height: must be positive";
+            break;
+        case Kind::Mesh: {
+            if (d.file.empty()) return field + ".file: missing (required): path of an OBJ file";
+            const Vec3& s = d.transform.scale;
+            if (!(s.x > 0 && s.y > 0 && s.z > 0) || !finite(s))
+                return field + ".scale: must be positive";
+            break;
         }
+    }
+    if (!finite(d.transform.rotationDegrees)) return field + ".rotation: must be finite";
+    if (!finite(d.transform.translation)) return field + ".translation: must be finite";
+    return {};
+}
+
+std::string validateSolids(const WorldDef& def) {
+    for (std::size_t i = 0; i < def.solids.size(); ++i)
+        if (std::string problem = validateShape(def.solids[i], fieldOf(def.solids[i].field, "solids", i));
+            !problem.empty())
+            return problem;
+    return {};
+}
+
+std::string validateRigidBodies(const WorldDef& def) {
+    for (std::size_t i = 0; i < def.rigidBodies.size(); ++i) {
+        const RigidBodyDescription& b = def.rigidBodies[i];
+        const std::string field = fieldOf(b.field, "rigid_bodies", i);
+        if (b.shape.kind == SolidDescription::Kind::Plane)
+            return field + ".type: a plane cannot be a rigid body (it has no finite mass)";
+        if (std::string problem = validateShape(b.shape, field); !problem.empty()) return problem;
+        const bool hasDensity = b.density != 0.0f, hasMass = b.mass != 0.0f;
+        if (hasDensity == hasMass)
+            return field + ".density: give exactly one of density (kg/m^3) and mass (kg)";
+        if (hasDensity && !(b.density > 0.0f && b.density <= 1e5f))
+            return field + ".density: must be in (0, 100000] kg/m^3, got " +
+                   std::to_string(b.density);
+        if (hasMass && !(b.mass > 0.0f && b.mass <= 1e9f))
+            return field + ".mass: must be in (0, 1e9] kg, got " + std::to_string(b.mass);
+        if (!finite(b.velocity)) return field + ".velocity: must be finite";
+        if (!finite(b.angularVelocity)) return field + ".angular_velocity: must be finite";
+        if (!(b.friction >= 0.0f && b.friction <= 10.0f))
+            return field + ".friction: must be in [0, 10], got " + std::to_string(b.friction);
+        if (!(b.restitution >= 0.0f && b.restitution <= 1.0f))
+            return field + ".restitution: must be in [0, 1], got " + std::to_string(b.restitution);
     }
     return {};
 }
@@ -144,6 +174,7 @@ std::string validate(const WorldDef& def) {
         return "guard.max_speed_factor: must be in [1, 10000]";
     if (std::string problem = validateBlocks(def); !problem.empty()) return problem;
     if (std::string problem = validateSolids(def); !problem.empty()) return problem;
+    if (std::string problem = validateRigidBodies(def); !problem.empty()) return problem;
     return validateEmitters(def);
 }
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # `pbf run` killed for real, then resumed: SIGKILL (no chance to clean up) and
 # SIGTERM (stops cleanly with a checkpoint) in the middle of a run, then
-# `--resume`; every frame file must equal the uninterrupted run's byte for byte,
-# and the VTK collection particles.pvd must list every frame once.
+# `--resume`; every frame file (and bodies.csv, for a scene with rigid
+# bodies) must equal the uninterrupted run's byte for byte, and the VTK
+# collection particles.pvd must list every frame once.
 # Usage: kill_resume_test.sh PBF SCENE WORKDIR
 set -euo pipefail
 pbf=$1
@@ -52,6 +53,9 @@ compare() {
     done
     cmp "$work/straight/particles.pvd" "$dir/particles.pvd" ||
         { echo "FAIL: particles.pvd after resume differs from the uninterrupted run's"; cat "$dir/particles.pvd"; exit 1; }
+    if [ -e "$work/straight/bodies.csv" ]; then
+        cmp "$work/straight/bodies.csv" "$dir/bodies.csv" || { echo "FAIL: bodies.csv differs after resume"; exit 1; }
+    fi
     if ls -A "$dir" | grep -q '\.tmp'; then echo "FAIL: temporary files left in $dir"; exit 1; fi
 }
 

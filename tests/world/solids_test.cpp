@@ -276,3 +276,46 @@ TEST(Solids, RestingWaterAtASolidHasInteriorDensity) {
 }
 
 }  // namespace
+
+// The lookup grid for many solids (SolidSet::buildIndex) gives exactly the
+// answers of the plain scan: same distance, normal and nearest solid, for
+// every reach (those beyond its margin fall back to the scan), moved solids
+// included.
+TEST(SolidIndex, SameAnswersAsTheScan) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    pbf::SolidSet indexed, plain;
+    for (int k = 0; k < 40; ++k) {
+        const pbf::Vec3 c{u(rng), u(rng), u(rng)};
+        const float s = 0.01f + 0.05f * u(rng);
+        for (pbf::SolidSet* set : {&indexed, &plain}) {
+            if (k % 2 == 0)
+                set->add(pbf::makeSphereSolid(c, s));
+            else
+                set->add(pbf::makeBoxSolid({c - pbf::Vec3{s, s, s}, c + pbf::Vec3{s, s, s}}));
+        }
+    }
+    // Move a few, as bodies do, then index.
+    for (std::size_t k = 0; k < 40; k += 7) {
+        const pbf::SolidMotion m{{{0.05f, -0.02f, 0.01f}, pbf::axisAngle({0, 1, 0}, 0.3f)}, {}, {}};
+        indexed.setMotion(k, m);
+        plain.setMotion(k, m);
+    }
+    indexed.buildIndex({{-0.1f, -0.1f, -0.1f}, {1.1f, 1.1f, 1.1f}}, 0.06f);
+    int hits = 0;
+    for (int q = 0; q < 20000; ++q) {
+        const pbf::Vec3 p{u(rng) * 1.2f - 0.1f, u(rng) * 1.2f - 0.1f, u(rng) * 1.2f - 0.1f};
+        const float reach = q % 3 == 0 ? 0.1f : 0.06f * u(rng);  // beyond and within the margin
+        pbf::Vec3 na, nb;
+        std::size_t ka = 999, kb = 999;
+        const float da = indexed.signedDistance(p, reach, na, &ka);
+        const float db = plain.signedDistance(p, reach, nb, &kb);
+        ASSERT_EQ(da, db) << q;
+        ASSERT_EQ(ka, kb) << q;
+        if (ka != 999) {
+            ASSERT_EQ(na, nb) << q;
+            ++hits;
+        }
+    }
+    EXPECT_GT(hits, 1000);  // points near solids were asked about
+}

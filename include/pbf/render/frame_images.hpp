@@ -43,6 +43,8 @@ class FrameImages {
 
     // Renders `particles` into directory/frame_NNNNN.png (written whole).
     void write(int frame, const RenderParticles& particles);
+    // Replaces the solids drawn from the next write() on (rigid bodies move).
+    void setSolids(const SolidMesh& solids);
 
     const ImageSettings& settings() const { return settings_; }
     const std::filesystem::path& directory() const { return directory_; }

@@ -7,7 +7,9 @@
 #include <cstddef>
 #include <vector>
 
+#include "pbf/pose.hpp"
 #include "pbf/scene.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::render {
 
@@ -29,5 +31,16 @@ void appendSolid(SolidMesh& mesh, const SolidDescription& solid, const Aabb& dom
 // All solids of the scene; a mesh that cannot be loaded throws pbf::SceneError
 // naming the scene file and the field ("scenes/x.json: solids[0].file: ...").
 SolidMesh tessellateSolids(const Scene& scene);
+
+// The scene's rigid bodies, one mesh each, in their shapes' own frames (a
+// box or sphere centred at the origin, a cylinder along y centred at the
+// origin, a mesh as its file gives it, scaled): what World::solids()
+// places with the pose of the body's solid (World::bodyInfos()[i].solid).
+std::vector<SolidMesh> tessellateBodyShapes(const Scene& scene);
+// Appends `shape` placed by `pose` to `out`.
+void appendPosed(SolidMesh& out, const SolidMesh& shape, const Pose& pose);
+// The static solids and every body at its current pose in `world`.
+SolidMesh posedSolids(const SolidMesh& statics, const std::vector<SolidMesh>& bodyShapes,
+                      const World& world);
 
 }  // namespace pbf::render

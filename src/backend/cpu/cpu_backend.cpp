@@ -4,6 +4,12 @@
 
 namespace pbf {
 
+void CpuBackend::step(const SolverContext& context, float dt) {
+    reactions_.reset(store_.size(), context.solids);
+    solver_.step(context, store_, dt, times_, reactions_.active() ? &reactions_ : nullptr);
+    reactions_.forces(context.constants.particleMass, dt, lastReactions_);
+}
+
 BackendDiagnostics CpuBackend::diagnostics() const {
     BackendDiagnostics d;
     const NeighborSearch& search = solver_.neighborSearch();

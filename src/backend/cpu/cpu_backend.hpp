@@ -15,9 +15,7 @@ class CpuBackend final : public HostBackend {
         : solver_(params.domain, params.kernelRadius(), options.compactListSpan) {}
 
     BackendKind kind() const override { return BackendKind::Cpu; }
-    void step(const SolverContext& context, float dt) override {
-        solver_.step(context, store_, dt, times_);
-    }
+    void step(const SolverContext& context, float dt) override;
     BackendDiagnostics diagnostics() const override;
 
     const Solver& solver() const { return solver_; }

@@ -14,6 +14,7 @@
 
 #include "backend/cpu/simd-inl.h"
 #include "core/boundary.hpp"
+#include "core/reactions.hpp"
 #include "backend/cpu/solver_stages.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -217,6 +218,7 @@ void DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
 struct CorrectionPass {
     const SolverConstants& c;
     const SolidSet* solids;
+    ReactionAccumulator* reactions;  // null: no coupled solid
     const NeighborSearch& search;
     const Float3Array& start;
     const PackedPoint* withLambda;
@@ -268,16 +270,28 @@ struct CorrectionParticle {
         const float massOverRho0 = c.particleMass * c.inverseRestDensity;
         Vec3 dp = Vec3{sumOfLanes(sx), sumOfLanes(sy), sumOfLanes(sz)} *
                   (massOverRho0 * c.spiky.gradientCoefficient);
-        // The walls' share of grad_i C_i (they carry no lambda of their own).
+        // The walls' and solids' share of grad_i C_i (they carry no lambda of their own).
         float unusedKernelSum = 0.0f;
         Vec3 wallGradient{};
         addWallContribution(c, x, unusedKernelSum, wallGradient);
-        addSolidContribution(c, p.solids, x, unusedKernelSum, wallGradient);
-        dp += wallGradient * (packed.w * massOverRho0);
+        boundary::SolidContribution solid;
+        if (p.solids) solid = boundary::solidContribution(c, *p.solids, x);
+        const float boundaryScale = packed.w * massOverRho0;
+        dp += (wallGradient + solid.gradient) * boundaryScale;
         // x* + dp, projected into the collision box and out of the solids
         // (Alg. 1 l. 16-18).
         Vec3 moved = clampToBox(c.collisionBox, x + dp);
-        if (p.solids) moved = boundary::resolveSolidCollision(c, *p.solids, p.start.get(i), moved);
+        if (p.solids) {
+            const Vec3 unprojected = moved;
+            std::size_t touched = boundary::kNoSolid;
+            moved = boundary::resolveSolidCollision(c, *p.solids, p.start.get(i), moved, &touched);
+            // Two-way coupling: what a body's boundary did to particle i
+            // (core/reactions.hpp).
+            if (p.reactions) {
+                p.reactions->add(i, solid.solid, x, solid.gradient * boundaryScale);
+                p.reactions->add(i, touched, moved, moved - unprojected);
+            }
+        }
         p.corrected[i] = {moved.x, moved.y, moved.z, 0.0f};
     }
 };
@@ -292,9 +306,9 @@ void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std:
 }
 
 void CorrectPositions(const SolverConstants& c, const SolidSet* solids,
-                      const NeighborSearch& search, const Float3Array& start,
-                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
-                      std::size_t end) {
+                      ReactionAccumulator* reactions, const NeighborSearch& search,
+                      const Float3Array& start, const PackedPoint* withLambda,
+                      PackedPoint* corrected, std::size_t begin, std::size_t end) {
     const FloatTag d;
     // One instantiation per exponent allowed by validate() (n in [1, 8]).
     using Range = void (*)(const CorrectionPass&, std::size_t, std::size_t);
@@ -308,6 +322,7 @@ void CorrectPositions(const SolverConstants& c, const SolidSet* solids,
                          const CorrectionPass pass{
                              c,
                              solids,
+                             reactions,
                              search,
                              start,
                              withLambda,
@@ -412,11 +427,11 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
 }
 
 void correctPositions(const SolverConstants& c, const SolidSet* solids,
-                      const NeighborSearch& search, const Float3Array& start,
-                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
-                      std::size_t end) {
+                      ReactionAccumulator* reactions, const NeighborSearch& search,
+                      const Float3Array& start, const PackedPoint* withLambda,
+                      PackedPoint* corrected, std::size_t begin, std::size_t end) {
     HWY_DYNAMIC_DISPATCH(CorrectPositions)
-    (c, solids, search, start, withLambda, corrected, begin, end);
+    (c, solids, reactions, search, start, withLambda, corrected, begin, end);
 }
 
 void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,

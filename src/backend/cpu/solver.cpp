@@ -27,7 +27,8 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
     if (withVorticity) vorticity_.resize(n);  // allocates once, when first switched on
 }
 
-void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times) {
+void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
+                  ReactionAccumulator* reactions) {
     const SimulationParams& params = context.params;
     const SolverConstants& c = context.constants;
     const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
@@ -46,7 +47,7 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     });
     if (solids) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::resolveSolidCollisions(c, *solids, p.position, p.predicted, b, e);
+            stages::resolveSolidCollisions(c, *solids, reactions, p.position, p.predicted, b, e);
         });
     }
     times.predict = millisecondsSince(t);
@@ -82,7 +83,8 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
         // Reads (x*, lambda) of the neighbours, writes the corrected x* over
         // the previous iteration's: the next density pass reads it.
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::correctPositions(c, solids, search_, p.position, withLambda, predicted, b, e);
+            stages::correctPositions(c, solids, reactions, search_, p.position, withLambda,
+                                     predicted, b, e);
         });
         times.deltaP += millisecondsSince(part);
         times.iterations += 1.0;
@@ -113,8 +115,8 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
         });
     }
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::respondToBoundaries(c, solids, s.restitution, s.friction, p.predicted, p.velocity,
-                                    b, e);
+        stages::respondToBoundaries(c, solids, s.restitution, s.friction, dt, reactions,
+                                    p.predicted, p.velocity, b, e);
         stages::commitPositions(p.predicted, p.position, b, e);
     });
     times.postProcess = millisecondsSince(t);

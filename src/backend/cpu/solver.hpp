@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "backend/cpu/neighbor_search.hpp"
+#include "core/reactions.hpp"
 #include "pbf/backend.hpp"
 #include "pbf/particles.hpp"
 
@@ -35,8 +36,11 @@ class Solver {
     // `compactListSpan` (tests only): see NeighborSearch.
     Solver(const Aabb& domain, float kernelRadius, std::uint32_t compactListSpan = 65536);
 
-    // Advances the particles by dt seconds; stage times go to `times`.
-    void step(const SolverContext& context, ParticleStore& particles, float dt, StageTimes& times);
+    // Advances the particles by dt seconds; stage times go to `times`. With
+    // `reactions` (reset for this step; null when no solid is coupled) the
+    // coupled solids' boundary moves are recorded (core/reactions.hpp).
+    void step(const SolverContext& context, ParticleStore& particles, float dt, StageTimes& times,
+              ReactionAccumulator* reactions = nullptr);
 
     const NeighborSearch& neighborSearch() const { return search_; }
     // Solver-owned memory in bytes (scratch arrays, grid, neighbour lists).

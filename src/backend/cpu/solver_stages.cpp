@@ -76,21 +76,32 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
 }
 
 void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
-                            const Float3Array& position, Float3Array& predicted, std::size_t begin,
-                            std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i)
-        predicted.set(i, boundary::resolveSolidCollision(c, solids, position.get(i),
-                                                         predicted.get(i)));
+                            ReactionAccumulator* reactions, const Float3Array& position,
+                            Float3Array& predicted, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Vec3 before = predicted.get(i);
+        std::size_t touched = boundary::kNoSolid;
+        const Vec3 after = boundary::resolveSolidCollision(c, solids, position.get(i), before,
+                                                           reactions ? &touched : nullptr);
+        if (reactions) reactions->add(i, touched, after, after - before);
+        predicted.set(i, after);
+    }
 }
 
 void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float restitution,
-                         float friction, const Float3Array& predicted, Float3Array& velocity,
-                         std::size_t begin, std::size_t end) {
+                         float friction, float dt, ReactionAccumulator* reactions,
+                         const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                         std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 x = predicted.get(i);
         Vec3 v = boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity.get(i));
-        if (solids)
-            v = boundary::respondToSolids(*solids, c.particleRadius, restitution, friction, x, v);
+        if (solids) {
+            const Vec3 before = v;
+            std::size_t touched = boundary::kNoSolid;
+            v = boundary::respondToSolids(*solids, c.particleRadius, restitution, friction, x, v,
+                                          reactions ? &touched : nullptr);
+            if (reactions) reactions->add(i, touched, x, (v - before) * dt);
+        }
         velocity.set(i, v);
     }
 }

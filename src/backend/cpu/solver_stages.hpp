@@ -9,6 +9,7 @@
 
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver.hpp"
+#include "core/reactions.hpp"
 #include "pbf/particles.hpp"
 #include "pbf/solids.hpp"
 #include "pbf/solver_constants.hpp"
@@ -39,16 +40,20 @@ void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
 // then x*_i + dp_i projected into the collision box and out of the solids
 // (Alg. 1 l. 16-18), written to `corrected` (Jacobi: neighbours read
 // `withLambda`). `start` (x at the start of the step) is where the sweep
-// against solids begins.
+// against solids begins. With `reactions` (may be null) the moves that the
+// coupled solids' boundary terms and projections give each particle are
+// recorded (core/reactions.hpp); [begin, end) must then lie in one block of
+// detail::kBlockSize.
 void correctPositions(const SolverConstants& c, const SolidSet* solids,
-                      const NeighborSearch& search, const Float3Array& start,
-                      const PackedPoint* withLambda, PackedPoint* corrected, std::size_t begin,
-                      std::size_t end);
+                      ReactionAccumulator* reactions, const NeighborSearch& search,
+                      const Float3Array& start, const PackedPoint* withLambda,
+                      PackedPoint* corrected, std::size_t begin, std::size_t end);
 
-// boundary::resolveSolidCollision for every particle of the range (x -> x*).
+// boundary::resolveSolidCollision for every particle of the range (x -> x*),
+// recording coupled solids' pushes in `reactions` (may be null).
 void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
-                            const Float3Array& position, Float3Array& predicted, std::size_t begin,
-                            std::size_t end);
+                            ReactionAccumulator* reactions, const Float3Array& position,
+                            Float3Array& predicted, std::size_t begin, std::size_t end);
 
 // Alg. 1 l. 21: v = (x* - x) / dt; also packs (v, rho) for the next pass.
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
@@ -72,10 +77,13 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
                                Float3Array& velocity, std::size_t begin, std::size_t end);
 
 // Restitution and friction against the walls of the collision box and the
-// solids (boundary::respondToWalls, boundary::respondToSolids; `solids` may be null).
+// solids (boundary::respondToWalls, boundary::respondToSolids; `solids` may
+// be null). A coupled solid's velocity change dv is recorded in `reactions`
+// (may be null) as the move dv dt.
 void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float restitution,
-                         float friction, const Float3Array& predicted, Float3Array& velocity,
-                         std::size_t begin, std::size_t end);
+                         float friction, float dt, ReactionAccumulator* reactions,
+                         const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
+                         std::size_t end);
 
 // Alg. 1 l. 23: x = x*.
 void commitPositions(const Float3Array& predicted, Float3Array& position, std::size_t begin,

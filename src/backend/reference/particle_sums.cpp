@@ -54,6 +54,12 @@ Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::s
     return dp;
 }
 
+SolidCorrection solidCorrection(const SolverConstants& c, const SolidSet& solids, float lambdaI,
+                                const Vec3& xi) {
+    const boundary::SolidContribution s = boundary::solidContribution(c, solids, xi);
+    return {s.solid, boundaryPositionCorrection(c, lambdaI, s.gradient)};
+}
+
 Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec3> x,
                   std::span<const Vec3> v, std::span<const float> rho, NeighborIndices neighbors,
                   std::size_t i) {

@@ -32,6 +32,17 @@ DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* soli
 Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
                         std::span<const float> lambdas, NeighborIndices neighbors, std::size_t i);
 
+// The part of eq. 14 that the nearest solid contributes at x_i (it carries
+// no lambda: lambda_i (m/rho0) times its share of grad_i C_i) and which solid
+// that is (boundary::kNoSolid and zero when none is in reach): the move
+// whose reaction a coupled solid feels.
+struct SolidCorrection {
+    std::size_t solid = 0;
+    Vec3 displacement;
+};
+SolidCorrection solidCorrection(const SolverConstants& c, const SolidSet& solids, float lambdaI,
+                                const Vec3& xi);
+
 // Eq. 17: v_i after XSPH viscosity, from the velocities v and densities rho
 // of the state before XSPH (Jacobi: no neighbour has been updated yet).
 Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec3> x,

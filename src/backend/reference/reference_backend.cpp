@@ -7,6 +7,8 @@
 //   post-process   XSPH viscosity and vorticity confinement             (l. 22)
 //   wall response  restitution and friction on the walls and solids
 //   commit         x = x*                                               (l. 23)
+// and, when a solid is coupled (a rigid body), the reaction of everything
+// its boundary did to the particles (core/reactions.hpp).
 // Each stage is a loop over all particles that writes only entry i and
 // reads the previous stage's arrays (Jacobi), so the result does not depend
 // on the order of the particles within a loop.
@@ -70,13 +72,21 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
 
     // Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the
     // sweep against the solids starts from x (no step tunnels through them).
+    // Two-way coupling (core/reactions.hpp): every move a coupled solid's
+    // boundary gives a particle is recorded; its reaction acts on the body.
+    reactions_.reset(n, solids);
+    ReactionAccumulator* reactions = reactions_.active() ? &reactions_ : nullptr;
     auto t = Clock::now();
     for (std::size_t i = 0; i < n; ++i) {
         velocity_[i] += dt * params.gravity;
         predicted_[i] = boundary::clampToBox(box, position_[i] + dt * velocity_[i]);
-        if (solids)
+        if (solids) {
+            const Vec3 before = predicted_[i];
+            std::size_t touched = boundary::kNoSolid;
             predicted_[i] =
-                boundary::resolveSolidCollision(c, *solids, position_[i], predicted_[i]);
+                boundary::resolveSolidCollision(c, *solids, position_[i], before, &touched);
+            if (reactions) reactions->add(i, touched, predicted_[i], predicted_[i] - before);
+        }
     }
     times_.predict = millisecondsSince(t);
 
@@ -103,7 +113,17 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
                                                           grid_.neighbors(i), i);
             // Alg. 1 l. 16-18: collision response, the box and the solids.
             Vec3 moved = boundary::clampToBox(box, predicted_[i] + dp);
-            if (solids) moved = boundary::resolveSolidCollision(c, *solids, position_[i], moved);
+            if (solids) {
+                const Vec3 unprojected = moved;
+                std::size_t touched = boundary::kNoSolid;
+                moved = boundary::resolveSolidCollision(c, *solids, position_[i], moved, &touched);
+                if (reactions) {
+                    const reference::SolidCorrection s =
+                        reference::solidCorrection(c, *solids, lambda_[i], predicted_[i]);
+                    reactions->add(i, s.solid, predicted_[i], s.displacement);
+                    reactions->add(i, touched, moved, moved - unprojected);
+                }
+            }
             corrected_[i] = moved;
         }
         predicted_.swap(corrected_);
@@ -144,13 +164,18 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     for (std::size_t i = 0; i < n; ++i) {
         Vec3 v =
             boundary::respondToWalls(box, s.restitution, s.friction, predicted_[i], velocity_[i]);
-        if (solids)
+        if (solids) {
+            const Vec3 before = v;
+            std::size_t touched = boundary::kNoSolid;
             v = boundary::respondToSolids(*solids, c.particleRadius, s.restitution, s.friction,
-                                          predicted_[i], v);
+                                          predicted_[i], v, &touched);
+            if (reactions) reactions->add(i, touched, predicted_[i], (v - before) * dt);
+        }
         velocity_[i] = v;
         position_[i] = predicted_[i];
     }
     commit();
+    reactions_.forces(c.particleMass, dt, lastReactions_);
     times_.postProcess = millisecondsSince(t);
     times_.total = millisecondsSince(stepStart);
 }

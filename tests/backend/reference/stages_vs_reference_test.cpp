@@ -239,7 +239,7 @@ SimdResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
                                         withLambda.data(), b, e);
     });
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::correctPositions(c, solids, search, p.position, withLambda.data(), corrected.data(),
+        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(), corrected.data(),
                                  b, e);
     });
     // The post-process at the uncorrected x* (any positions do).
