@@ -5,8 +5,8 @@
 // What bit-identity needs: the solver sorts particles by grid cell with a
 // stable counting sort every step, so the next memory order depends on the
 // current one. A checkpoint therefore stores the particle arrays in memory
-// order (position, velocity, density, id; the predicted positions equal the
-// positions between steps), the store's next id, the frame counter and the
+// order (position, velocity, density, id, the warm start's solve
+// acceleration; the predicted positions equal the positions between steps), the store's next id, the frame counter and the
 // time. It also stores the run's totals and the stats.csv rows so far, the
 // scene fingerprint (a resume with another scene is refused) and the pbf
 // version (solvers of different versions give different bits).
@@ -34,7 +34,7 @@ namespace pbf {
 
 class World;
 
-inline constexpr std::uint32_t kCheckpointFormatVersion = 2;  // 2: emitters, inside_solid
+inline constexpr std::uint32_t kCheckpointFormatVersion = 3;  // 2: emitters, inside_solid; 3: warm start
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and

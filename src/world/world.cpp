@@ -105,7 +105,6 @@ FrameResult World::stepFrame() {
             }
             backend_->step(context(), static_cast<float>(dt));
             report.stageMs += backend_->lastStageTimes();
-            report.iterations = static_cast<int>(backend_->lastStageTimes().iterations);
             remaining -= dt;
             elapsed += dt;
             ++substeps;
@@ -120,6 +119,7 @@ FrameResult World::stepFrame() {
         report.state = state.state;
         report.substeps = substeps;
         report.stepMs = substeps > 0 ? report.stageMs.total / substeps : 0.0;
+        report.iterations = substeps > 0 ? report.stageMs.iterations / substeps : 0.0;
         refreshArrays();
     } catch (const std::exception& e) {
         StepError error;
