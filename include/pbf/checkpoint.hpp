@@ -5,12 +5,12 @@
 // What bit-identity needs: the solver sorts particles by grid cell with a
 // stable counting sort every step, so the next memory order depends on the
 // current one. A checkpoint therefore stores the particle arrays in memory
-// order (position, velocity, density, id; the predicted positions equal the
-// positions between steps), the store's next id, the frame counter and the
-// time, and the rigid bodies' states (poses, velocities; the contact
-// solver is rebuilt from them at every frame, see
-// src/world/contact_world.hpp). It also stores the run's totals, the
-// stats.csv and bodies.csv rows so far, the
+// order (position, velocity, density, id, the warm start's solve
+// acceleration; the predicted positions equal the positions between steps),
+// the store's next id, the frame counter and the time, and the rigid bodies'
+// states (poses, velocities; the contact solver is rebuilt from them at
+// every frame, see src/world/contact_world.hpp). It also stores the run's
+// totals, the stats.csv and bodies.csv rows so far, the
 // scene fingerprint (a resume with another scene is refused) and the pbf
 // version (solvers of different versions give different bits).
 //
@@ -38,8 +38,8 @@ namespace pbf {
 
 class World;
 
-// 2: emitters, inside_solid; 3: rigid bodies and bodies.csv
-inline constexpr std::uint32_t kCheckpointFormatVersion = 3;
+// 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start
+inline constexpr std::uint32_t kCheckpointFormatVersion = 4;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and

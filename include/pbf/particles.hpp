@@ -54,6 +54,10 @@ class ParticleStore {
     Float3Array predicted;          // x*, metres (solver working positions)
     Float3Array velocity;           // v, metres per second
     std::vector<float> density;     // last density estimate, kg/m^3
+    // The last substep's pressure acceleration (its position correction per
+    // dt^2, m/s^2), which warm-starts the next one (solver.warm_start).
+    // Empty while the warm start is off; particles added get zero.
+    Float3Array solveAcceleration;
     std::vector<std::uint32_t> id;  // stable identity, 0-based
 
     std::size_t size() const { return id.size(); }

@@ -43,6 +43,7 @@ struct SolverConstants {
     float scorrScale = 0.0f;
     float scorrInverseWdq = 0.0f;  // 1 / W(dq h)
     int scorrExponent = 4;
+    float overRelaxation = 1.0f;  // omega: x* += omega dp (SolverParams::overRelaxation)
     Aabb domain;        // walls of the box
     Aabb collisionBox;  // domain shrunk by the particle radius
     WallTable wall;

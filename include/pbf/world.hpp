@@ -48,7 +48,10 @@ struct FrameReport {
     int frame = 0;        // frames completed
     double time = 0.0;    // simulated seconds
     int substeps = 0;     // solver steps taken in this frame
-    int iterations = 0;   // density iterations per substep the solver ran (last substep)
+    // Density iterations (corrections) per substep the solver ran, averaged
+    // over the frame's substeps (counted in its loop: with
+    // solver.max_density_error it varies).
+    double iterations = 0.0;
     double stepMs = 0.0;  // average wall-clock ms per substep in this frame
     StageTimes stageMs;   // summed over the frame's substeps
     StateStatistics state;

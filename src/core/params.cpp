@@ -60,6 +60,16 @@ std::string validate(const SimulationParams& p) {
     const SolverParams& s = p.solver;
     if (!inRange(s.iterations, 1, 100))
         return outOfRange("solver.iterations", s.iterations, 1, 100);
+    if (!inRange(s.maxDensityError, 0.0f, 0.1f))
+        return outOfRange("solver.max_density_error", s.maxDensityError, 0.0f, 0.1f);
+    if (!inRange(s.maxIterations, 1, 1000))
+        return outOfRange("solver.max_iterations", s.maxIterations, 1, 1000);
+    if (!inRange(s.minIterations, 0, s.maxIterations))
+        return outOfRange("solver.min_iterations", s.minIterations, 0, s.maxIterations);
+    if (!inRange(s.warmStart, 0.0f, 0.5f))
+        return outOfRange("solver.warm_start", s.warmStart, 0.0f, 0.5f);
+    if (!inRange(s.overRelaxation, 0.5f, 1.5f))
+        return outOfRange("solver.over_relaxation", s.overRelaxation, 0.5f, 1.5f);
     if (!inRange(s.relaxation, 1e-6f, 10.0f))
         return outOfRange("solver.relaxation", s.relaxation, 1e-6f, 10.0f);
     if (!inRange(s.artificialPressure.k, 0.0f, 1.0f))

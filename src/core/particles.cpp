@@ -34,10 +34,12 @@ void ParticleStore::add(const Vec3& x, const Vec3& v, float restDensity) {
     velocity.push_back(v);
     density.push_back(restDensity);
     id.push_back(nextId_++);
+    if (!solveAcceleration.x.empty()) solveAcceleration.push_back({});
 }
 
 void ParticleStore::reorder(std::span<const std::uint32_t> perm) {
-    for (Float3Array* a : {&position, &predicted, &velocity}) {
+    for (Float3Array* a : {&position, &predicted, &velocity, &solveAcceleration}) {
+        if (a->size() != perm.size()) continue;  // an optional field that is off
         permute(a->x, perm, scratchFloat_);
         permute(a->y, perm, scratchFloat_);
         permute(a->z, perm, scratchFloat_);
@@ -56,7 +58,7 @@ std::vector<std::uint32_t> ParticleStore::orderById() const {
 
 std::size_t ParticleStore::memoryBytes() const {
     std::size_t floats = density.capacity() + scratchFloat_.capacity();
-    for (const Float3Array* a : {&position, &predicted, &velocity})
+    for (const Float3Array* a : {&position, &predicted, &velocity, &solveAcceleration})
         floats += a->x.capacity() + a->y.capacity() + a->z.capacity();
     return sizeof(float) * floats +
            sizeof(std::uint32_t) * (id.capacity() + scratchIndex_.capacity());

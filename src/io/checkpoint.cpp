@@ -112,6 +112,9 @@ std::string serialize(const Checkpoint& c) {
     w.array(p.velocity.z);
     w.array(p.density);
     w.array(p.id);
+    w.array(p.solveAcceleration.x);  // empty while the warm start is off
+    w.array(p.solveAcceleration.y);
+    w.array(p.solveAcceleration.z);
     w.array(c.emitters);
     w.array(c.bodies);
     const RunTotals& t = c.totals;
@@ -144,6 +147,9 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     r.array(p.velocity.z, "velocity.z");
     r.array(p.density, "density");
     r.array(p.id, "id");
+    r.array(p.solveAcceleration.x, "solve acceleration.x");
+    r.array(p.solveAcceleration.y, "solve acceleration.y");
+    r.array(p.solveAcceleration.z, "solve acceleration.z");
     r.array(c.emitters, "emitters");
     r.array(c.bodies, "rigid bodies");
     RunTotals& t = c.totals;
@@ -165,6 +171,9 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
          {p.position.x.size(), p.position.y.size(), p.position.z.size(), p.velocity.x.size(),
           p.velocity.y.size(), p.velocity.z.size(), p.density.size()})
         if (size != n) fail(name, "corrupt checkpoint: particle arrays of different lengths");
+    const Float3Array& a = p.solveAcceleration;
+    if (!(a.x.size() == a.y.size() && a.x.size() == a.z.size() && (a.x.empty() || a.x.size() == n)))
+        fail(name, "corrupt checkpoint: particle arrays of different lengths");
     if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
         fail(name, "corrupt checkpoint: bad frame or time");
     std::vector<std::uint32_t> ids = p.id;

@@ -103,6 +103,11 @@ Aabb readBox(JsonReader& r) {
 SolverParams readSolver(JsonReader r) {
     SolverParams s;
     s.iterations = r.integer("iterations", s.iterations);
+    s.maxDensityError = r.number("max_density_error", s.maxDensityError);
+    s.minIterations = r.integer("min_iterations", s.minIterations);
+    s.maxIterations = r.integer("max_iterations", s.maxIterations);
+    s.overRelaxation = r.number("over_relaxation", s.overRelaxation);
+    s.warmStart = r.number("warm_start", s.warmStart);
     s.relaxation = r.number("relaxation", s.relaxation);
     s.kernelRadiusFactor = r.number("kernel_radius_factor", s.kernelRadiusFactor);
     {

@@ -14,7 +14,7 @@ std::string statsCsvHeader() {
 std::string statsCsvRow(const FrameReport& r) {
     const double perStep = r.substeps > 0 ? 1.0 / r.substeps : 0.0;
     return fmt::format(
-        "{},{:.6f},{},{},{},{:.4f},{:.6e},{:.6e},{:.6e},{},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
+        "{},{:.6f},{},{},{:.2f},{:.4f},{:.6e},{:.6e},{:.6e},{},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
         r.time, r.state.particles, r.substeps, r.iterations, r.stepMs, r.state.averageDensityError,
         r.state.maxDensityError, r.state.kineticEnergy, r.state.escaped, r.state.insideSolid,
         r.state.maxSpeed, r.stageMs.neighborSearch * perStep, r.stageMs.solve * perStep,

@@ -135,7 +135,6 @@ FrameResult World::stepFrame() {
                                         .count();
             report.stageMs.bodies += bodiesMs;
             report.stageMs.total += bodiesMs;
-            report.iterations = static_cast<int>(backend_->lastStageTimes().iterations);
             remaining -= dt;
             elapsed += dt;
             ++substeps;
@@ -150,6 +149,7 @@ FrameResult World::stepFrame() {
         report.state = state.state;
         report.substeps = substeps;
         report.stepMs = substeps > 0 ? report.stageMs.total / substeps : 0.0;
+        report.iterations = substeps > 0 ? report.stageMs.iterations / substeps : 0.0;
         refreshArrays();
     } catch (const std::exception& e) {
         StepError error;

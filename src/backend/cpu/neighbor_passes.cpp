@@ -143,6 +143,7 @@ struct DensityPass {
     PairConstants k;
     float gradScale;  // grad C = m/rho0 grad W
     float spiky;
+    double* compression;  // sum of C_i over the range (the iteration control's reduction)
 };
 
 template <bool Wide>
@@ -186,16 +187,18 @@ struct DensityParticle {
         const float rho = c.particleMass * kernelSum;
         p.density[i] = rho;
         const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
+        *p.compression += constraint;
         const float lambdaI =
             -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
         p.withLambda[i] = {x.x, x.y, x.z, lambdaI};
     }
 };
 
-void DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                      const NeighborSearch& search, const PackedPoint* predicted, float* density,
-                      PackedPoint* withLambda, std::size_t begin, std::size_t end) {
+double DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                        const NeighborSearch& search, const PackedPoint* predicted, float* density,
+                        PackedPoint* withLambda, std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;
+    double compression = 0.0;
     forEachListBlock(search, begin, end,
                      [&](std::size_t first, std::size_t last, const NeighborList& block) {
                          const DensityPass pass{c,
@@ -207,12 +210,14 @@ void DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                                                 withLambda,
                                                 pairConstants(c.h, c.poly6.h2),
                                                 gradScale,
-                                                c.spiky.gradientCoefficient * gradScale};
+                                                c.spiky.gradientCoefficient * gradScale,
+                                                &compression};
                          if (block.wide)
                              forEachParticleInterleaved<DensityParticle<true>>(pass, first, last);
                          else
                              forEachParticleInterleaved<DensityParticle<false>>(pass, first, last);
                      });
+    return compression;
 }
 
 struct CorrectionPass {
@@ -276,8 +281,10 @@ struct CorrectionParticle {
         addWallContribution(c, x, unusedKernelSum, wallGradient);
         boundary::SolidContribution solid;
         if (p.solids) solid = boundary::solidContribution(c, *p.solids, x);
-        const float boundaryScale = packed.w * massOverRho0;
-        dp += (wallGradient + solid.gradient) * boundaryScale;
+        // Over-relaxation (Macklin et al. 2014, sec. 4.2) scales the whole
+        // correction, the boundary's share included (and so its reaction).
+        const float boundaryScale = packed.w * massOverRho0 * c.overRelaxation;
+        dp = dp * c.overRelaxation + (wallGradient + solid.gradient) * boundaryScale;
         // x* + dp, projected into the collision box and out of the solids
         // (Alg. 1 l. 16-18).
         Vec3 moved = clampToBox(c.collisionBox, x + dp);
@@ -418,11 +425,11 @@ HWY_EXPORT(DensityAndLambda);
 HWY_EXPORT(CorrectPositions);
 HWY_EXPORT(ViscosityAndVorticity);
 
-void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search, const PackedPoint* predicted,
-                             float* density, PackedPoint* withLambda, std::size_t begin,
-                             std::size_t end) {
-    HWY_DYNAMIC_DISPATCH(DensityAndLambda)
+double computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+                               const NeighborSearch& search, const PackedPoint* predicted,
+                               float* density, PackedPoint* withLambda, std::size_t begin,
+                               std::size_t end) {
+    return HWY_DYNAMIC_DISPATCH(DensityAndLambda)
     (c, solids, search, predicted, density, withLambda, begin, end);
 }
 

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "backend/cpu/solver_stages.hpp"
+#include "core/iteration_control.hpp"
 #include "core/parallel.hpp"
 
 namespace pbf {
@@ -45,6 +46,17 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
         stages::predictPositions(params.gravity, dt, box, p.position, p.velocity, p.predicted, b,
                                  e);
     });
+    // The last substep's pressure acceleration, in the store so that it
+    // follows the particles through reorder, emitters and checkpoints;
+    // dropped while the warm start is off.
+    const bool warmStart = s.warmStart > 0.0f;
+    p.solveAcceleration.resize(warmStart ? n : 0);
+    if (warmStart) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::warmStartPredictions(s.warmStart, dt, box, p.solveAcceleration, p.predicted, b,
+                                         e);
+        });
+    }
     if (solids) {
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
             stages::resolveSolidCollisions(c, *solids, reactions, p.position, p.predicted, b, e);
@@ -72,13 +84,20 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     });
     times.lambda = times.deltaP = 0.0;
     times.iterations = 0.0;
-    for (int iteration = 0; iteration < s.iterations; ++iteration) {
+    const IterationControl control(s);
+    blockCompression_.resize((n + detail::kBlockSize - 1) / detail::kBlockSize);
+    for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
         part = Clock::now();
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::computeDensityAndLambda(c, solids, search_, predicted, density, withLambda, b,
-                                            e);
+            blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(
+                c, solids, search_, predicted, density, withLambda, b, e);
         });
         times.lambda += millisecondsSince(part);
+        // The average compression of the state the density pass just saw,
+        // summed block by block in a fixed order (deterministic).
+        double compression = 0.0;
+        for (const double block : blockCompression_) compression += block;
+        if (control.converged(corrections, n > 0 ? compression / double(n) : 0.0)) break;
         part = Clock::now();
         // Reads (x*, lambda) of the neighbours, writes the corrected x* over
         // the previous iteration's: the next density pass reads it.
@@ -95,6 +114,12 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     times.solve = millisecondsSince(t);
 
     t = Clock::now();
+    if (warmStart) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            stages::recordSolveAcceleration(dt, p.position, p.predicted, p.velocity,
+                                            p.solveAcceleration, b, e);
+        });
+    }
     // x* is still packed in `predicted`; (v, rho) go to the other buffer.
     PackedPoint* velocityDensity = withLambda;
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {

@@ -58,6 +58,7 @@ class Solver {
     std::vector<PackedPoint> packed_;
     std::vector<PackedPoint> packedWithLambda_;
     Float3Array vorticity_;  // omega_i, only while vorticity confinement is on
+    std::vector<double> blockCompression_;  // sum of C_i per parallel block (iteration control)
 };
 
 }  // namespace pbf

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backend/reference/equations.hpp"
 #include "core/boundary.hpp"
 
 namespace pbf::stages {
@@ -16,6 +17,22 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
         velocity.set(i, v);
         predicted.set(i, clampToBox(box, position.get(i) + dt * v));
     }
+}
+
+void warmStartPredictions(float warm, float dt, const Aabb& box,
+                          const Float3Array& solveAcceleration, Float3Array& predicted,
+                          std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        predicted.set(i, clampToBox(box, reference::warmStart(predicted.get(i),
+                                                              solveAcceleration.get(i), warm, dt)));
+}
+
+void recordSolveAcceleration(float dt, const Float3Array& position, const Float3Array& predicted,
+                             const Float3Array& velocity, Float3Array& solveAcceleration,
+                             std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        solveAcceleration.set(i, reference::solveAcceleration(position.get(i), predicted.get(i),
+                                                              velocity.get(i), dt));
 }
 
 // The neighbour loops below run on full SIMD vectors of neighbours

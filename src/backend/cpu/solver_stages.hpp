@@ -21,6 +21,18 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
                       Float3Array& velocity, Float3Array& predicted, std::size_t begin,
                       std::size_t end);
 
+// Warm start (solver.warm_start = w): x* += w dt^2 a_i, a_i the pressure
+// acceleration of the particle's last substep (reference::warmStart), kept
+// in the collision box.
+void warmStartPredictions(float warm, float dt, const Aabb& box,
+                          const Float3Array& solveAcceleration, Float3Array& predicted,
+                          std::size_t begin, std::size_t end);
+// After the iterations: a_i = (x*_i - x_i - dt v_i) / dt^2, v_i the predicted
+// velocity (reference::solveAcceleration).
+void recordSolveAcceleration(float dt, const Float3Array& position, const Float3Array& predicted,
+                             const Float3Array& velocity, Float3Array& solveAcceleration,
+                             std::size_t begin, std::size_t end);
+
 // x* as packed records for the iterations, and back.
 void packPositions(const Float3Array& predicted, PackedPoint* packed, std::size_t begin,
                    std::size_t end);
@@ -31,14 +43,16 @@ void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::siz
 // lambda_i = -C_i / (sum_k |grad_k C_i|^2 + eps), with C_i = max(rho_i/rho0 - 1, 0)
 // so that particles at a free surface (missing neighbours) are never pulled in.
 // Writes x*_i with lambda_i in w to `withLambda` (the next pass reads both).
-void computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+// Returns the sum of C_i over the range (for the iteration control).
+double computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                              const NeighborSearch& search, const PackedPoint* predicted,
                              float* density, PackedPoint* withLambda, std::size_t begin,
                              std::size_t end);
 
 // Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij,
 // then x*_i + dp_i projected into the collision box and out of the solids
-// (Alg. 1 l. 16-18), written to `corrected` (Jacobi: neighbours read
+// (Alg. 1 l. 16-18), dp scaled by the over-relaxation omega, written to
+// `corrected` (Jacobi: neighbours read
 // `withLambda`). `start` (x at the start of the step) is where the sweep
 // against solids begins. With `reactions` (may be null) the moves that the
 // coupled solids' boundary terms and projections give each particle are

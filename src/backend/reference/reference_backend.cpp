@@ -21,6 +21,7 @@
 #include "backend/reference/equations.hpp"
 #include "backend/reference/particle_sums.hpp"
 #include "core/boundary.hpp"
+#include "core/iteration_control.hpp"
 
 namespace pbf {
 namespace {
@@ -45,18 +46,24 @@ void ReferenceBackend::load() {
     postVelocity_.resize(n);
     density_.resize(n);
     lambda_.resize(n);
+    predictedVelocity_.resize(n);
+    solveAcceleration_.assign(n, Vec3{});
+    const bool warm = store_.solveAcceleration.size() == n;
     for (std::size_t i = 0; i < n; ++i) {
         position_[i] = store_.position.get(i);
         velocity_[i] = store_.velocity.get(i);
+        if (warm) solveAcceleration_[i] = store_.solveAcceleration.get(i);
     }
 }
 
-void ReferenceBackend::commit() {
+void ReferenceBackend::commit(bool warmStart) {
+    store_.solveAcceleration.resize(warmStart ? store_.size() : 0);
     for (std::size_t i = 0; i < store_.size(); ++i) {
         store_.position.set(i, position_[i]);
         store_.predicted.set(i, predicted_[i]);
         store_.velocity.set(i, velocity_[i]);
         store_.density[i] = density_[i];
+        if (warmStart) store_.solveAcceleration.set(i, solveAcceleration_[i]);
     }
 }
 
@@ -77,9 +84,14 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     reactions_.reset(n, solids);
     ReactionAccumulator* reactions = reactions_.active() ? &reactions_ : nullptr;
     auto t = Clock::now();
+    const float warm = params.solver.warmStart;
     for (std::size_t i = 0; i < n; ++i) {
         velocity_[i] += dt * params.gravity;
+        predictedVelocity_[i] = velocity_[i];
         predicted_[i] = boundary::clampToBox(box, position_[i] + dt * velocity_[i]);
+        if (warm > 0.0f)
+            predicted_[i] = boundary::clampToBox(
+                box, reference::warmStart(predicted_[i], solveAcceleration_[i], warm, dt));
         if (solids) {
             const Vec3 before = predicted_[i];
             std::size_t touched = boundary::kNoSolid;
@@ -98,21 +110,26 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     // Alg. 1 l. 8-19: Jacobi iterations. Every lambda is computed from the
     // same x*, every dp from the same lambdas, then all x* move at once.
     t = Clock::now();
-    for (int iteration = 0; iteration < params.solver.iterations; ++iteration) {
+    // The count: fixed, or until the average compression is small enough.
+    const IterationControl control(params.solver);
+    for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
         auto part = Clock::now();
+        double compression = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             const reference::DensityAndLambda r =
                 reference::densityAndLambda(c, solids, predicted_, grid_.neighbors(i), i);
             density_[i] = r.density;
             lambda_[i] = r.lambda;
+            compression += reference::densityConstraint(c, r.density);
         }
         times_.lambda += millisecondsSince(part);
+        if (control.converged(corrections, n > 0 ? compression / double(n) : 0.0)) break;
         part = Clock::now();
         for (std::size_t i = 0; i < n; ++i) {
             const Vec3 dp = reference::positionCorrection(c, solids, predicted_, lambda_,
                                                           grid_.neighbors(i), i);
             // Alg. 1 l. 16-18: collision response, the box and the solids.
-            Vec3 moved = boundary::clampToBox(box, predicted_[i] + dp);
+            Vec3 moved = boundary::clampToBox(box, predicted_[i] + reference::overRelaxed(c, dp));
             if (solids) {
                 const Vec3 unprojected = moved;
                 std::size_t touched = boundary::kNoSolid;
@@ -120,7 +137,7 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
                 if (reactions) {
                     const reference::SolidCorrection s =
                         reference::solidCorrection(c, *solids, lambda_[i], predicted_[i]);
-                    reactions->add(i, s.solid, predicted_[i], s.displacement);
+                    reactions->add(i, s.solid, predicted_[i], reference::overRelaxed(c, s.displacement));
                     reactions->add(i, touched, moved, moved - unprojected);
                 }
             }
@@ -133,6 +150,10 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     times_.solve = millisecondsSince(t);
 
     t = Clock::now();
+    if (warm > 0.0f)
+        for (std::size_t i = 0; i < n; ++i)
+            solveAcceleration_[i] = reference::solveAcceleration(position_[i], predicted_[i],
+                                                                 predictedVelocity_[i], dt);
     // Alg. 1 l. 21: the velocity the positions' change implies.
     for (std::size_t i = 0; i < n; ++i)
         velocity_[i] = reference::velocityFromPositions(position_[i], predicted_[i], dt);
@@ -174,7 +195,7 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         velocity_[i] = v;
         position_[i] = predicted_[i];
     }
-    commit();
+    commit(warm > 0.0f);
     reactions_.forces(c.particleMass, dt, lastReactions_);
     times_.postProcess = millisecondsSince(t);
     times_.total = millisecondsSince(stepStart);
@@ -182,7 +203,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
 
 std::size_t ReferenceBackend::bufferBytes() const {
     std::size_t vectors = position_.capacity() + predicted_.capacity() + corrected_.capacity() +
-                          velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity();
+                          velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity() +
+                          predictedVelocity_.capacity() + solveAcceleration_.capacity();
     return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity());
 }
 

@@ -27,7 +27,7 @@ class ReferenceBackend final : public HostBackend {
 
   private:
     void load();    // store_ -> the Vec3 arrays
-    void commit();  // the Vec3 arrays -> store_
+    void commit(bool warmStart);  // the Vec3 arrays -> store_
     std::size_t bufferBytes() const;
 
     reference::NeighborGrid grid_;
@@ -38,6 +38,8 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> velocity_;
     std::vector<Vec3> postVelocity_;  // v after XSPH and confinement (Jacobi)
     std::vector<Vec3> vorticity_;     // omega, eq. 15
+    std::vector<Vec3> predictedVelocity_;  // v + dt g, before the iterations
+    std::vector<Vec3> solveAcceleration_;  // warm start: the last substep's, then this one's
     std::vector<float> density_;
     std::vector<float> lambda_;
 };
