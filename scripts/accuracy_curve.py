@@ -21,6 +21,7 @@ import csv
 import json
 import os
 import pathlib
+import resource
 import subprocess
 import sys
 
@@ -33,12 +34,12 @@ FIXED = [2, 4, 8, 16]
 TOLERANCES = [0.001, 0.0005, 0.0002, 0.0001]
 
 
-def modes(methods):
+def modes(methods, fixed, tolerances):
     """(label, method, overrides) for every point of the curve."""
     for method, extra in methods:
-        for n in FIXED:
+        for n in fixed:
             yield f"{n} it", method, extra + [f"solver.iterations={n}"]
-        for tol in TOLERANCES:
+        for tol in tolerances:
             yield f"tol {100 * tol:g} %", method, extra + [
                 f"solver.max_density_error={tol}",
                 "solver.min_iterations=1",
@@ -53,13 +54,19 @@ def run_one(pbf, radius, frames, overrides, out):
     for o in overrides:
         args += ["--set", o]
     env = dict(os.environ, OMP_WAIT_POLICY="passive")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run(args, check=True, env=env, stdout=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     summary = json.loads((out / "summary.json").read_text())
     with open(out / "stats.csv") as f:
         rows = list(csv.DictReader(f))[1:]  # frame 0 is the initial state
     mean = lambda key: sum(float(r[key]) for r in rows) / len(rows)
     return {
         "wall_per_sim_s": summary["wall_seconds"] / summary["simulated_seconds"],
+        # CPU time of both threads: on a shared machine (the 2-core development
+        # machine with other builds) wall time measures the neighbours' load.
+        "cpu_per_sim_s": cpu / summary["simulated_seconds"],
         "avg_compression": mean("avg_density_error"),
         "max_compression": mean("max_density_error"),
         "iterations": mean("iterations"),
@@ -68,41 +75,38 @@ def run_one(pbf, radius, frames, overrides, out):
     }
 
 
-def plot(points, path):
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("accuracy_curve: matplotlib missing (apt-get install python3-matplotlib): no plot")
-        return
+def plot(points, out):
+    """The curve through the project's one plotting path: a figure description
+    (OUT/curve.plot.json) drawn by scripts/pbf_plot.py, as pbf plot and pbf
+    validate draw theirs."""
     sizes = sorted({p["size"] for p in points}, key=lambda s: SIZES[s], reverse=True)
-    fig, axes = plt.subplots(len(sizes), 2, figsize=(11, 4.2 * len(sizes)), squeeze=False)
-    for row, size in enumerate(sizes):
-        for col, key in enumerate(["avg_compression", "max_compression"]):
-            ax = axes[row][col]
-            for method in sorted({p["method"] for p in points}):
-                for kind, marker in (("it", "o-"), ("tol", "s--")):
-                    sel = [p for p in points if p["size"] == size and p["method"] == method
-                           and p["mode"].startswith(kind)]
-                    if not sel:
-                        continue
-                    sel.sort(key=lambda p: p["wall_per_sim_s"])
-                    ax.plot([p["wall_per_sim_s"] for p in sel], [100 * p[key] for p in sel],
-                            marker, label=f"{method}, {'fixed iterations' if kind == 'it' else 'tolerance'}")
-                    for p in sel:
-                        ax.annotate(p["mode"], (p["wall_per_sim_s"], 100 * p[key]),
-                                    fontsize=7, xytext=(3, 3), textcoords="offset points")
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xlabel("wall seconds per simulated second (2 threads)")
-            ax.set_ylabel(("average" if col == 0 else "maximum") + " compression, time-averaged (%)")
-            ax.set_title(f"dam break {size}")
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    print(f"accuracy_curve: {path}")
+    panels = []
+    for size in sizes:
+        for key, name in (("avg_compression", "average"), ("max_compression", "maximum")):
+            series = []
+            for method in dict.fromkeys(p["method"] for p in points):
+                for kind, style, what in (("it", "line", "fixed iterations"),
+                                          ("tol", "dashed", "tolerance")):
+                    sel = sorted((p for p in points if p["size"] == size and
+                                  p["method"] == method and p["mode"].startswith(kind)),
+                                 key=lambda p: p["cpu_per_sim_s"])
+                    if sel:
+                        series.append({"label": f"{method}, {what}", "style": style,
+                                       "x": [p["cpu_per_sim_s"] for p in sel],
+                                       "y": [100 * p[key] for p in sel]})
+            panels.append({"title": f"dam break {size}: {name} compression",
+                           "x_label": "CPU seconds per simulated second (2 threads)",
+                           "y_label": f"{name} compression, time-averaged (%)",
+                           "log_y": True, "series": series})
+    data = out / "curve.plot.json"
+    data.write_text(json.dumps({"title": "Accuracy per cost: PBF density solve",
+                                "columns": 2, "panels": panels}))
+    status = subprocess.run(["/usr/bin/python3", str(ROOT / "scripts" / "pbf_plot.py"),
+                             str(data), str(out / "curve.png")]).returncode
+    if status == 3:
+        print("accuracy_curve: no plot: apt-get install python3-matplotlib")
+    elif status == 0:
+        print(f"accuracy_curve: {out / 'curve.png'}")
 
 
 def main():
@@ -111,6 +115,10 @@ def main():
     parser.add_argument("--sizes", default="17k,140k")
     parser.add_argument("--frames", type=int, default=120)
     parser.add_argument("--out", default="out/accuracy")
+    parser.add_argument("--fixed", default=",".join(map(str, FIXED)),
+                        help="fixed iteration counts, e.g. 4,8")
+    parser.add_argument("--tolerances", default=",".join(map(str, TOLERANCES)),
+                        help="solver.max_density_error values, e.g. 0.0005,0.0002")
     parser.add_argument("--method", action="append", default=[],
                         help="NAME:FIELD=VALUE[,FIELD=VALUE] compared with plain Jacobi, "
                              "e.g. omega1.5:solver.over_relaxation=1.5")
@@ -123,15 +131,17 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     points = []
     for size in args.sizes.split(","):
-        for label, method, overrides in modes(methods):
+        for label, method, overrides in modes(methods, [int(n) for n in args.fixed.split(",") if n],
+                                           [float(t) for t in args.tolerances.split(",") if t]):
             result = run_one(args.pbf, SIZES[size], args.frames, overrides, out / "run")
             result.update(size=size, method=method, mode=label)
             points.append(result)
             print(f"{size:>5} {method:>10} {label:>12}: {result['wall_per_sim_s']:7.2f} s/s, "
+                  f"CPU {result['cpu_per_sim_s']:7.2f} s/s, "
                   f"avg {100 * result['avg_compression']:.4f} %, "
                   f"max {100 * result['max_compression']:.3f} %, "
                   f"{result['iterations']:.2f} iterations", flush=True)
-    keys = ["size", "method", "mode", "particles", "wall_per_sim_s", "avg_compression",
+    keys = ["size", "method", "mode", "particles", "wall_per_sim_s", "cpu_per_sim_s", "avg_compression",
             "max_compression", "iterations", "substeps"]
     with open(out / "curve.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys)
@@ -139,13 +149,15 @@ def main():
         for p in points:
             w.writerow({k: p[k] for k in keys})
     with open(out / "curve.md", "w") as f:
-        f.write("| size | method | mode | wall s / sim s | avg compression | max compression "
-                "| iterations / substep |\n| --- | --- | --- | --- | --- | --- | --- |\n")
+        f.write("| size | method | mode | wall s / sim s | CPU s / sim s | avg compression "
+                "| max compression | iterations / substep |\n"
+                "| --- | --- | --- | --- | --- | --- | --- | --- |\n")
         for p in points:
             f.write(f"| {p['size']} | {p['method']} | {p['mode']} | {p['wall_per_sim_s']:.2f} | "
+                    f"{p['cpu_per_sim_s']:.2f} | "
                     f"{100 * p['avg_compression']:.4f} % | {100 * p['max_compression']:.3f} % | "
                     f"{p['iterations']:.2f} |\n")
-    plot(points, out / "curve.png")
+    plot(points, out)
     return 0
 
 

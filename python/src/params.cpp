@@ -72,6 +72,19 @@ void bindSolver(py::module_& m) {
     py::class_<SolverParams>(m, "SolverParams", "Solver settings (docs/scenes.md, \"solver\").")
         .def(py::init<>())
         .def_readwrite("iterations", &SolverParams::iterations, "density iterations, [1, 100]")
+        .def_property("max_density_error", floatGetter(&SolverParams::maxDensityError),
+                      floatSetter(&SolverParams::maxDensityError),
+                      "iterate to this average compression (relative), [0, 0.1]; 0: fixed "
+                      "iterations")
+        .def_readwrite("min_iterations", &SolverParams::minIterations,
+                       "with max_density_error, [0, max_iterations]")
+        .def_readwrite("max_iterations", &SolverParams::maxIterations,
+                       "with max_density_error, [1, 1000]")
+        .def_property("over_relaxation", floatGetter(&SolverParams::overRelaxation),
+                      floatSetter(&SolverParams::overRelaxation), "Jacobi omega, [0.5, 1.5]")
+        .def_property("warm_start", floatGetter(&SolverParams::warmStart),
+                      floatSetter(&SolverParams::warmStart),
+                      "fraction of the last pressure acceleration, [0, 0.5]")
         .def_property("relaxation", floatGetter(&SolverParams::relaxation),
                       floatSetter(&SolverParams::relaxation), "CFM epsilon, [1e-6, 10]")
         .def_readwrite("artificial_pressure", &SolverParams::artificialPressure)

@@ -229,4 +229,32 @@ TEST(Checkpoint, ResumeWithEmittersAndSolidsIsBitIdentical) {
     fs::remove_all(crashed);
 }
 
+// The warm start carries each particle's last solve acceleration from step
+// to step; the checkpoint stores it (format 4), so a resumed run continues
+// with the same bits. Checked that this can fail: with the array left out
+// of the checkpoint, the resumed frames differ from frame 4 on.
+TEST(Checkpoint, ResumeWithWarmStartAndToleranceIsBitIdentical) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak({pbf::parseOverride("solver.warm_start=0.4"),
+                                            pbf::parseOverride("solver.over_relaxation=1.2"),
+                                            pbf::parseOverride("solver.max_density_error=0.001")});
+    const fs::path straight = freshTestDirectory("warm_straight");
+    pbf::runScene(withOutput(scene, straight, kFrames), {});
+    const fs::path crashed = freshTestDirectory("warm_crashed");
+    pbf::RunOptions options;
+    options.onFrame = [](const pbf::FrameReport& r) {
+        if (r.frame == 5) throw std::runtime_error("simulated crash");
+    };
+    EXPECT_THROW(pbf::runScene(withOutput(scene, crashed, kFrames), options), std::runtime_error);
+    EXPECT_EQ(pbf::readCheckpoint(crashed / pbf::kCheckpointFileName)
+                  .particles.solveAcceleration.x.size(),
+              pbf::readParticlesPly(straight / pbf::frameFileName(3)).position.size());
+    options.onFrame = nullptr;
+    options.resume = true;
+    EXPECT_EQ(pbf::runScene(withOutput(scene, crashed, kFrames), options).resumedFromFrame, 3);
+    expectSameFrames(straight, crashed, 0, kFrames);
+    fs::remove_all(straight);
+    fs::remove_all(crashed);
+}
+
 }  // namespace

@@ -2,31 +2,35 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "pbf/scene.hpp"
-#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
+#include "pbf/world.hpp"
 #include "support/test_util.hpp"
 
 namespace {
 
 // A coarse dam break with vorticity confinement on (every pass runs), one
 // fixed step of 1/240 s per frame.
-pbf::Scene coarseDamBreak() {
-    return pbf::loadScene(
-        pbf::test::scenePath("dam_break.json"),
-        {pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05"),
-         pbf::parseOverride("output.fps=240"), pbf::parseOverride("solver.time_step=fixed"),
-         pbf::parseOverride("solver.substeps=1")});
+pbf::Scene coarseDamBreak(const std::vector<std::string>& extra = {}) {
+    std::vector<pbf::SceneOverride> overrides{
+        pbf::parseOverride("particle_radius=0.02"), pbf::parseOverride("fluid.vorticity=0.05"),
+        pbf::parseOverride("output.fps=240"), pbf::parseOverride("solver.time_step=fixed"),
+        pbf::parseOverride("solver.substeps=1")};
+    for (const std::string& e : extra) overrides.push_back(pbf::parseOverride(e));
+    return pbf::loadScene(pbf::test::scenePath("dam_break.json"), overrides);
 }
 
 // `steps` solver steps on `threads` threads, the CPU backend's neighbour
 // lists compact (16-bit) when their span allows or forced wide (32-bit).
-pbf::ParticleStore runSteps(int threads, int steps, std::uint32_t compactListSpan = 65536) {
+pbf::ParticleStore runSteps(int threads, int steps, std::uint32_t compactListSpan = 65536,
+                            const std::vector<std::string>& extra = {}) {
     pbf::setThreadCount(threads);
     pbf::WorldOptions options;
     options.backendOptions.compactListSpan = compactListSpan;
-    pbf::World world(coarseDamBreak(), options);
+    pbf::World world(coarseDamBreak(extra), options);
     for (int k = 0; k < steps; ++k) pbf::test::stepFrame(world);
     return world.particles();
 }
@@ -65,6 +69,25 @@ TEST(Determinism, CompactAndWideNeighbourListsGiveIdenticalBits) {
     const pbf::ParticleStore wide = runSteps(2, 60, 16);
     pbf::setThreadCount(pbf::hardwareThreadCount());
     expectIdenticalBits(compact, wide);
+}
+
+// The accuracy options (docs/performance.md, "Accuracy per cost"): the
+// tolerance's stopping test sums the blocks' compression in block order,
+// and the warm start's acceleration is a per-particle array permuted with
+// the particles, so thread count changes nothing. Checked that this can
+// fail: summing the blocks' compression through an OpenMP reduction
+// changed the iteration count of some steps between 1 and 2 threads.
+TEST(Determinism, AccuracyOptionsGiveIdenticalBitsOnOneAndTwoThreads) {
+    const std::vector<std::string> options{"solver.max_density_error=0.002",
+                                           "solver.min_iterations=1", "solver.max_iterations=50",
+                                           "solver.over_relaxation=1.2", "solver.warm_start=0.4"};
+    const pbf::ParticleStore one = runSteps(1, 100, 65536, options);
+    const pbf::ParticleStore two = runSteps(2, 100, 65536, options);
+    pbf::setThreadCount(pbf::hardwareThreadCount());
+    expectIdenticalBits(one, two);
+    EXPECT_EQ(one.solveAcceleration.x, two.solveAcceleration.x);
+    EXPECT_EQ(one.solveAcceleration.y, two.solveAcceleration.y);
+    ASSERT_EQ(one.solveAcceleration.x.size(), one.size()) << "the warm start kept nothing";
 }
 
 }  // namespace
