@@ -28,40 +28,57 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
 }
 
 void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
-                  ReactionAccumulator* reactions) {
+                  ReactionAccumulator* reactions, HaloExchange* halo) {
     const SimulationParams& params = context.params;
     const SolverConstants& c = context.constants;
     const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
     const FluidParams& fluid = params.fluid;
     const SolverParams& s = params.solver;
     const bool withVorticity = fluid.vorticity > 0.0f;
-    const std::size_t n = p.size();
-    ensureCapacity(n, withVorticity);
     const Aabb& box = c.collisionBox;
     const auto stepStart = Clock::now();
+    times.exchange = 0.0;
+    // Halo exchanges, timed apart (they are also inside the stage they serve).
+    auto exchange = [&](auto&& values) {
+        const auto start = Clock::now();
+        halo->exchange(values);
+        times.exchange += millisecondsSince(start);
+    };
 
     auto t = Clock::now();
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+    detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
         stages::predictPositions(params.gravity, dt, box, p.position, p.velocity, p.predicted, b,
                                  e);
     });
     if (solids) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
             stages::resolveSolidCollisions(c, *solids, reactions, p.position, p.predicted, b, e);
         });
     }
     times.predict = millisecondsSince(t);
 
     t = Clock::now();
-    search_.sortByCell(p.predicted, perm_);
-    times.gridBuild = millisecondsSince(t);
+    if (halo) {
+        halo->distribute(p);
+        if (reactions) reactions->grow(p.size());
+        times.exchange += millisecondsSince(t);
+    }
+    const std::size_t n = p.size();
+    ensureCapacity(n, withVorticity);
     auto part = Clock::now();
+    search_.sortByCell(p.predicted, perm_);
+    times.gridBuild = millisecondsSince(part);
+    part = Clock::now();
     p.reorder(perm_);
     times.reorder = millisecondsSince(part);
     part = Clock::now();
     search_.buildNeighborLists(p.predicted);
     times.neighborLists = millisecondsSince(part);
     times.neighborSearch = millisecondsSince(t);
+    // The particles whose values this process computes; the rest are ghosts.
+    std::size_t ownedBegin = 0, ownedEnd = n;
+    if (halo) halo->ownedRange(search_, ownedBegin, ownedEnd);
+    auto forOwned = [&](auto&& fn) { detail::parallelForRange(ownedBegin, ownedEnd, fn); };
 
     t = Clock::now();
     float* density = p.density.data();
@@ -74,18 +91,23 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     times.iterations = 0.0;
     for (int iteration = 0; iteration < s.iterations; ++iteration) {
         part = Clock::now();
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::computeDensityAndLambda(c, solids, search_, predicted, density, withLambda, b,
                                             e);
         });
+        if (halo) {
+            exchange(withLambda);
+            exchange(density);
+        }
         times.lambda += millisecondsSince(part);
         part = Clock::now();
         // Reads (x*, lambda) of the neighbours, writes the corrected x* over
         // the previous iteration's: the next density pass reads it.
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::correctPositions(c, solids, reactions, search_, p.position, withLambda,
                                      predicted, b, e);
         });
+        if (halo) exchange(predicted);
         times.deltaP += millisecondsSince(part);
         times.iterations += 1.0;
     }
@@ -96,29 +118,37 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
 
     t = Clock::now();
     // x* is still packed in `predicted`; (v, rho) go to the other buffer.
+    // Ghosts included: their x, x* and density are their owners' values, so
+    // (x* - x) / dt is their owners' velocity without an exchange.
     PackedPoint* velocityDensity = withLambda;
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
         stages::updateVelocity(1.0f / dt, p.position, p.predicted, density, p.velocity,
                                velocityDensity, b, e);
     });
     if (fluid.viscosity > 0.0f || withVorticity) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::applyViscosityAndComputeVorticity(
                 c, fluid.viscosity, search_, predicted, velocityDensity,
                 withVorticity ? &vorticity_ : nullptr, p.velocity, b, e);
         });
     }
     if (withVorticity) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        if (halo) exchange(vorticity_);
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::applyVorticityConfinement(c, fluid.vorticity, dt, search_, p.predicted,
                                               vorticity_, density, p.velocity, b, e);
         });
     }
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+    forOwned([&](std::size_t b, std::size_t e) {
         stages::respondToBoundaries(c, solids, s.restitution, s.friction, dt, reactions,
                                     p.predicted, p.velocity, b, e);
         stages::commitPositions(p.predicted, p.position, b, e);
     });
+    if (halo) {
+        part = Clock::now();
+        halo->collect(p);
+        times.exchange += millisecondsSince(part);
+    }
     times.postProcess = millisecondsSince(t);
     times.total = millisecondsSince(stepStart);
 }
