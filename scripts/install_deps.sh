@@ -24,6 +24,8 @@ packages=(
   # paraview + python3-paraview 116 packages, 741 MB, 200 s; blender then 33 more, 331 MB, 65 s.
   # Not libvtk9-dev: it depends on python3-vtk9, which python3-paraview conflicts with.
   paraview python3-paraview blender
+  # distributed runs (PBF_MPI, docs/distributed.md): mpirun -np N pbf run ...
+  libopenmpi-dev openmpi-bin
   # plots of `pbf plot`, `pbf run` and `pbf validate` (scripts/pbf_plot.py, run with /usr/bin/python3)
   python3-matplotlib
 )

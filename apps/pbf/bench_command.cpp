@@ -16,9 +16,10 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "pbf/distributed.hpp"
 #include "pbf/scene.hpp"
-#include "pbf/world.hpp"
 #include "pbf/threading.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf::cli {
 namespace {
@@ -50,7 +51,8 @@ std::vector<RigidBodyDescription> benchBodies(int count) {
     std::vector<RigidBodyDescription> bodies;
     for (int k = 0; k < count; ++k) {
         const int i = k % 5, j = (k / 5) % 5, l = (k / 25) % 4;
-        const Vec3 centre{0.05f + 0.1f * float(i), 0.07f + 0.14f * float(j), 0.05f + 0.1f * float(l)};
+        const Vec3 centre{0.05f + 0.1f * float(i), 0.07f + 0.14f * float(j),
+                          0.05f + 0.1f * float(l)};
         const Vec3 half{0.025f, 0.025f, 0.025f};
         RigidBodyDescription b;
         b.shape.kind = SolidDescription::Kind::Box;
@@ -83,6 +85,12 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
 
     WorldOptions options;
     options.backend = parseBackendKind(args.device);
+    if (distributed::size() > 1) {
+        if (options.backend != BackendKind::Cpu)
+            throw SceneError("--device " + args.device +
+                             ": distributed runs (mpirun -np N, N > 1) use the cpu solver");
+        options.backend = BackendKind::Mpi;
+    }
     World world(scene, options);
     const auto step = [&world] {
         const FrameResult r = world.stepFrame();
@@ -94,7 +102,9 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     BenchResult result;
     result.particles = world.particleCount();
     for (int s = 0; s < args.steps; ++s) result.perStep += step() * (1.0 / args.steps);
-    result.stepMs = result.perStep.total;
+    // Distributed: a step takes as long as its slowest rank (the others wait
+    // for it in the exchanges, which `exchange` counts).
+    result.stepMs = distributed::maxOverRanks(result.perStep.total);
     const BackendDiagnostics d = world.backend().diagnostics();
     result.bytesPerParticle = double(d.memoryBytes) / double(result.particles);
     result.neighborsPerParticle = d.neighborsPerParticle;
@@ -123,36 +133,46 @@ std::vector<std::size_t> parseSizes(const std::string& text) {
 int runBench(const BenchArguments& args) {
     if (args.threads > 0) setThreadCount(args.threads);
     const Scene base = loadScene(args.scene);
-    fmt::print(
-        "pbf bench: scene {}, {} backend, {} iterations, {} timed steps after {} warm-up, {} "
-        "threads, {} rigid bodies\n",
-        args.scene, args.device, args.iterations, args.steps, args.warmup, threadCount(),
-        args.bodies);
-    fmt::print("{:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>13} {:>6} {:>6}\n",
-               "particles", "step_ms", "predict", "grid", "reorder", "lists", "lambda", "delta-p",
-               "post", "bodies", "particle-st/s", "nbrs", "B/part");
+    const bool writer = distributed::rank() == 0;  // rank 0 prints
+    const int ranks = distributed::size();
+    if (writer)
+        fmt::print(
+            "pbf bench: scene {}, {} backend, {} iterations, {} timed steps after {} warm-up, {} "
+            "threads, {} rigid bodies, {} MPI ranks\n",
+            args.scene, args.device, args.iterations, args.steps, args.warmup, threadCount(),
+            args.bodies, ranks);
+    if (writer)
+        fmt::print(
+            "{:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>13} {:>6} {:>6} "
+            "{:>8}\n",
+            "particles", "step_ms", "predict", "grid", "reorder", "lists", "lambda", "delta-p",
+            "post", "bodies", "particle-st/s", "nbrs", "B/part", "exch_ms");
     std::vector<std::string> machineLines;
     for (const std::size_t size : args.sizes) {
         const BenchResult r = benchOneSize(base, size, args);
         const double rate = double(r.particles) / (r.stepMs * 1e-3);
         const StageTimes& t = r.perStep;
+        if (!writer) continue;
         fmt::print(
-            "{:>9} {:>9.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} "
-            "{:>13.3e} {:>6.1f} {:>6.0f}\n",
+            "{:>9} {:>9.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} "
+            "{:>8.2f} "
+            "{:>13.3e} {:>6.1f} {:>6.0f} {:>8.2f}\n",
             r.particles, r.stepMs, t.predict, t.gridBuild, t.reorder, t.neighborLists, t.lambda,
-            t.deltaP, t.postProcess, t.bodies, rate, r.neighborsPerParticle, r.bytesPerParticle);
+            t.deltaP, t.postProcess, t.bodies, rate, r.neighborsPerParticle, r.bytesPerParticle,
+            t.exchange);
         machineLines.push_back(fmt::format(
             "pbf-bench: particles={} steps={} iterations={} threads={} device={} step_ms={:.3f} "
             "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
             "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
             "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} bodies={} bodies_ms={:.3f} "
-            "bytes_per_particle={:.0f} compact_lists={:.2f}",
+            "bytes_per_particle={:.0f} compact_lists={:.2f} ranks={} exchange_ms={:.3f}",
             r.particles, args.steps, args.iterations, threadCount(), args.device, r.stepMs, rate,
-            t.predict,
-            t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder, t.neighborLists,
-            t.lambda, t.deltaP, args.bodies, t.bodies, r.bytesPerParticle, r.compactListShare));
+            t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder,
+            t.neighborLists, t.lambda, t.deltaP, args.bodies, t.bodies, r.bytesPerParticle,
+            r.compactListShare, ranks, t.exchange));
     }
-    for (const std::string& line : machineLines) fmt::print("{}\n", line);
+    if (writer)
+        for (const std::string& line : machineLines) fmt::print("{}\n", line);
     return 0;
 }
 
@@ -181,9 +201,10 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     bench->add_option("--device", args->device, "Backend: cpu (SIMD) or reference (scalar)")
         ->check(CLI::IsMember({"cpu", "reference"}))
         ->capture_default_str();
-    bench->add_option("--bodies", args->bodies,
-                      "Rigid bodies (5 cm boxes, densities 500 and 1500) in the water column: "
-                      "the two-way coupling's cost")
+    bench
+        ->add_option("--bodies", args->bodies,
+                     "Rigid bodies (5 cm boxes, densities 500 and 1500) in the water column: "
+                     "the two-way coupling's cost")
         ->check(CLI::Range(0, 100))
         ->capture_default_str();
     return [args, sizes] {

@@ -12,6 +12,7 @@
 #include "console.hpp"
 #include "mesh_job.hpp"
 #include "pbf/checkpoint.hpp"
+#include "pbf/distributed.hpp"
 #include "pbf/io.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
@@ -75,7 +76,16 @@ std::string finishPictures(const Scene& scene, RunImages* images, bool plot,
     return made;
 }
 
-int runScene(const RunArguments& args) {
+int runScene(RunArguments args) {
+    // Distributed: every rank simulates its slab; rank 0 writes the files
+    // and speaks (the others are quiet and make no pictures).
+    const bool writer = distributed::rank() == 0;
+    if (!writer) {
+        args.quiet = true;
+        args.noPlot = true;
+        args.render = "none";
+        args.mesh = false;
+    }
     std::vector<SceneOverride> overrides;
     for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
     Scene scene = loadScene(args.scene, overrides);
@@ -102,6 +112,15 @@ int runScene(const RunArguments& args) {
     ProgressBar progress("simulating", scene.output.frames, !args.quiet);
     RunOptions options;
     options.world.backend = parseBackendKind(args.device);
+    if (distributed::size() > 1) {
+        if (options.world.backend != BackendKind::Cpu)
+            throw SceneError("--device " + args.device +
+                             ": distributed runs (mpirun -np N, N > 1) use the cpu solver");
+        options.world.backend = BackendKind::Mpi;
+        if (!args.quiet)
+            fmt::print(stderr, "pbf run: {} MPI ranks, {} threads each\n", distributed::size(),
+                       threadCount());
+    }
     options.onStart = [&](const World& world) {
         if (args.quiet) return;
         const SolidSet& solids = world.solids();
@@ -121,14 +140,16 @@ int runScene(const RunArguments& args) {
     const auto warn = [](const std::string& message) {
         fmt::print(stderr, "pbf: warning: {}\n", message);
     };
-    const std::unique_ptr<RunImages> images = RunImages::start(scene, warn);
-    options.writeFrame = [&](int frame, const World& world) {
-        if (scene.output.writeVdbPoints)
-            surface::writeParticlesVdb(std::filesystem::path(scene.output.directory) /
-                                           fmt::format("frame_{:05d}.vdb", frame),
-                                       world.particles());
-        if (images) images->write(frame, world);
-    };
+    const std::unique_ptr<RunImages> images =
+        writer ? RunImages::start(scene, warn) : std::unique_ptr<RunImages>();
+    if (writer && (scene.output.writeVdbPoints || images))
+        options.writeFrame = [&](int frame, const World& world) {
+            if (scene.output.writeVdbPoints)
+                surface::writeParticlesVdb(std::filesystem::path(scene.output.directory) /
+                                               fmt::format("frame_{:05d}.vdb", frame),
+                                           world.particles());
+            if (images) images->write(frame, world);
+        };
     options.onFrame = [&](const FrameReport& r) {
         progress.update(r.frame,
                         fmt::format("t={:.3f}s substeps={} step={:.1f}ms err={:.2f}%", r.time,
@@ -149,6 +170,11 @@ int runScene(const RunArguments& args) {
         return 1;
     }
     progress.finish();
+    if (!writer)  // rank 0 reports; the status is the same on every rank
+        return s.error                                    ? 4
+               : s.interrupted                            ? 128 + stopSignal()
+               : s.maxInsideSolid > 0 || s.maxEscaped > 0 ? 3
+                                                          : 0;
     // Pictures and plots of what was simulated, also of a run the state
     // guard stopped (they show how it went bad); not of an interrupted run,
     // which is continued with --resume and finished then.

@@ -48,6 +48,10 @@ struct StageTimes {
     // Rigid bodies: forces in, one Bullet step, poses out (the World adds
     // it; the fluid's share of the coupling is in the stages above).
     double bodies = 0.0;
+    // Distributed runs (backend/mpi): migration, ghost set-up and the halo
+    // exchanges of the step, waiting for other ranks included (part of the
+    // stages above; 0 in one process).
+    double exchange = 0.0;
     // Density iterations the solver ran (counted in its loop, not copied
     // from the settings).
     double iterations = 0.0;
@@ -76,8 +80,9 @@ struct SolverContext {
 enum class BackendKind {
     Cpu,        // SIMD CPU solver (Highway), OpenMP, deterministic: the default
     Reference,  // scalar, one function per equation of the paper: the test oracle
+    Mpi,        // the CPU solver on one slab of the grid per MPI rank (builds with PBF_MPI)
 };
-// "cpu", "reference".
+// "cpu", "reference", "mpi".
 std::string_view backendName(BackendKind kind);
 // Parses a backend name; throws std::invalid_argument listing the choices.
 BackendKind parseBackendKind(std::string_view name);
@@ -123,6 +128,9 @@ class Backend {
     virtual void upload(ParticleStore state) = 0;
 
     virtual BackendDiagnostics diagnostics() const = 0;
+    // Particles held by each process of a distributed backend, in rank
+    // order (collective there); one entry otherwise.
+    virtual std::vector<std::size_t> particlesPerRank() const { return {size()}; }
 };
 
 // Options that only tests and benchmarks change.

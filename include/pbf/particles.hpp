@@ -67,6 +67,8 @@ class ParticleStore {
     // Permutes every array: new index k takes the particle at old index perm[k].
     // `perm` must be a permutation of [0, size()).
     void reorder(std::span<const std::uint32_t> perm);
+    // Keeps the particles [begin, end) (in order) and drops the others.
+    void keepRange(std::size_t begin, std::size_t end);
     // Bytes held by the particle arrays and the reorder scratch.
     std::size_t memoryBytes() const;
     // Indices of the particles sorted by id (for writing files in a stable order).

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "backend/cpu/cpu_backend.hpp"
+#include "backend/mpi/mpi_backend.hpp"
 #include "backend/reference/reference_backend.hpp"
 
 namespace pbf {
@@ -15,6 +16,8 @@ std::string_view backendName(BackendKind kind) {
             return "cpu";
         case BackendKind::Reference:
             return "reference";
+        case BackendKind::Mpi:
+            return "mpi";
     }
     return "unknown";
 }
@@ -33,6 +36,8 @@ std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& p
             return std::make_unique<CpuBackend>(params, options);
         case BackendKind::Reference:
             return makeReferenceBackend(params);
+        case BackendKind::Mpi:
+            return makeMpiBackend(params, options);
     }
     throw std::invalid_argument("makeBackend: unknown backend kind");
 }
@@ -49,6 +54,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
     lambda += o.lambda;
     deltaP += o.deltaP;
     bodies += o.bodies;
+    exchange += o.exchange;
     iterations += o.iterations;
     return *this;
 }
@@ -66,6 +72,7 @@ StageTimes StageTimes::operator*(double factor) const {
     r.lambda = lambda * factor;
     r.deltaP = deltaP * factor;
     r.bodies = bodies * factor;
+    r.exchange = exchange * factor;
     r.iterations = iterations * factor;
     return r;
 }

@@ -6,12 +6,28 @@
 //
 // The check costs nothing extra: the density pass already has every
 // particle's constraint C_i = max(rho_i/rho0 - 1, 0); their sum is reduced
-// per block, in block order (deterministic under any thread count).
+// per block in fixed point (fixedPointCompression: the same bits under any
+// thread or rank count).
 #pragma once
+
+#include <cstdint>
 
 #include "pbf/params.hpp"
 
 namespace pbf {
+
+// C_i in fixed point (units of 2^-32) for the stopping test's sum. Integer
+// sums do not depend on their order, so the test sees the same bits on any
+// thread count and on any number of MPI ranks (a float sum would not: the
+// ranks hold different particles). The multiply by a power of two is exact;
+// the truncation loses under 2.4e-10 per particle. int64 holds the sum of
+// 2^31 particles at C = 1, far beyond any real state.
+inline std::int64_t fixedPointCompression(float constraint) {
+    return static_cast<std::int64_t>(constraint * 0x1p32f);
+}
+inline double averageCompression(std::int64_t fixedPointSum, std::uint64_t particles) {
+    return particles > 0 ? double(fixedPointSum) * 0x1p-32 / double(particles) : 0.0;
+}
 
 class IterationControl {
   public:

@@ -30,6 +30,22 @@ void parallelFor(std::size_t n, Fn&& fn) {
     parallelForBlocks(n, kBlockSize, std::forward<Fn>(fn));
 }
 
+// Calls fn(b, e) over [begin, end) in pieces that never cross a multiple of
+// kBlockSize, in parallel: per-block accumulators (ReactionAccumulator) stay
+// owned by one thread when the range starts inside a block (a distributed
+// step's owned range, after the ghosts below it). For begin = 0 the pieces
+// are parallelFor's blocks.
+template <class Fn>
+void parallelForRange(std::size_t begin, std::size_t end, Fn&& fn) {
+    if (end <= begin) return;
+    const std::size_t first = begin / kBlockSize;
+    const std::size_t blocks = (end + kBlockSize - 1) / kBlockSize - first;
+    parallelForBlocks(blocks, 1, [&](std::size_t b, std::size_t) {
+        const std::size_t block = first + b;
+        fn(std::max(begin, block * kBlockSize), std::min(end, (block + 1) * kBlockSize));
+    });
+}
+
 // Sums blockValue(begin, end) over fixed blocks and adds the partial sums in
 // block order, so the result does not depend on the thread count.
 template <class T, class Fn>

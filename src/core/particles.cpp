@@ -48,6 +48,21 @@ void ParticleStore::reorder(std::span<const std::uint32_t> perm) {
     permute(id, perm, scratchIndex_);
 }
 
+void ParticleStore::keepRange(std::size_t begin, std::size_t end) {
+    auto keep = [&](auto& values) {
+        values.erase(values.begin() + static_cast<std::ptrdiff_t>(end), values.end());
+        values.erase(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(begin));
+    };
+    for (Float3Array* a : {&position, &predicted, &velocity, &solveAcceleration}) {
+        if (a->x.empty()) continue;  // the solve acceleration while the warm start is off
+        keep(a->x);
+        keep(a->y);
+        keep(a->z);
+    }
+    keep(density);
+    keep(id);
+}
+
 std::vector<std::uint32_t> ParticleStore::orderById() const {
     std::vector<std::uint32_t> order(size());
     std::iota(order.begin(), order.end(), 0u);

@@ -22,8 +22,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/boundary.hpp"
 #include "core/blocks.hpp"
+#include "core/boundary.hpp"
 #include "pbf/backend.hpp"
 #include "pbf/solids.hpp"
 
@@ -47,6 +47,14 @@ class ReactionAccumulator {
         sums_.assign(blocks * solidCount_, Sum{});
     }
     bool active() const { return active_; }
+    // Room for particle indices below `particles`, keeping the sums so far
+    // (a distributed step adds migrated particles and ghosts after the
+    // swept collision has recorded its moves).
+    void grow(std::size_t particles) {
+        if (!active_) return;
+        const std::size_t blocks = (particles + detail::kBlockSize - 1) / detail::kBlockSize;
+        if (blocks * solidCount_ > sums_.size()) sums_.resize(blocks * solidCount_, Sum{});
+    }
 
     // The boundary of solid `solid` moved particle `particle`, at x, by
     // `displacement` (metres; a velocity change dv as dv dt). Only the thread

@@ -3,9 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <system_error>
 
+#include "pbf/distributed.hpp"
 #include "pbf/io.hpp"
 #include "pbf/state_guard.hpp"
 #include "pbf/version.hpp"
@@ -39,7 +42,7 @@ nlohmann::json bodiesJson(const World& world) {
 }
 
 void writeSummary(const std::filesystem::path& file, const Scene& scene, const World& world,
-                  const RunSummary& s) {
+                  const RunSummary& s, const std::vector<std::size_t>& rankParticles) {
     const BackendKind backend = world.backend().kind();
     nlohmann::json j;
     j["pbf_version"] = kVersion;
@@ -63,6 +66,10 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
     j["backend"] = std::string(backendName(backend));
+    // Distributed runs (docs/distributed.md): processes and each one's
+    // particles at the end (1 and [particles] in one process).
+    j["ranks"] = rankParticles.size();
+    j["rank_particles"] = rankParticles;
     if (world.bodyCount() > 0) j["bodies"] = bodiesJson(world);
     if (s.error) j["error"] = s.error->message;
     writeFileAtomically(file, [&](std::ostream& out) {
@@ -107,6 +114,15 @@ std::uintmax_t frameBytes(const OutputParams& output, std::size_t particles) {
 
 constexpr const char* kCollectionName = "particles.pvd";
 
+std::string readFileBytes(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw IoError(file.string() + ": cannot open for reading");
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in && !in.eof()) throw IoError(file.string() + ": read failed");
+    return bytes.str();
+}
+
 fs::path vtuFileName(int frame) {
     return frameFileName(frame).replace_extension(".vtu");
 }
@@ -118,9 +134,11 @@ RunDriver::RunDriver(const Scene& scene, const RunOptions& options)
       options_(options),
       output_(scene.output),
       dir_(scene.output.directory),
+      writer_(distributed::rank() == 0),
       world_(scene, options.world) {}
 
 void RunDriver::createDirectory() const {
+    if (!writer_) return;
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec || !fs::is_directory(dir_))
@@ -131,6 +149,7 @@ void RunDriver::createDirectory() const {
 // A run killed while writing leaves the temporary file of writeFileAtomically
 // (".frame_00012.ply.tmp123456"); the file it was to replace is whole.
 void RunDriver::removeStaleTemporaries() const {
+    if (!writer_) return;
     std::error_code ec;
     for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec)) {
         const std::string name = entry.path().filename().string();
@@ -142,12 +161,27 @@ void RunDriver::removeStaleTemporaries() const {
 
 void RunDriver::resumeFromCheckpoint() {
     const fs::path file = dir_ / kCheckpointFileName;
-    std::error_code ec;
-    if (!fs::exists(file, ec))
-        throw IoError(file.string() +
-                      ": no checkpoint to resume from; run without --resume to start at frame 0");
     removeStaleTemporaries();
-    Checkpoint checkpoint = readCheckpoint(file);
+    // Rank 0 reads the file and every rank gets its bytes (the output
+    // directory need not be shared); a failure is every rank's failure.
+    std::string bytes;
+    if (writer_) {
+        try {
+            std::error_code ec;
+            if (!fs::exists(file, ec))
+                throw IoError(file.string() +
+                              ": no checkpoint to resume from; run without "
+                              "--resume to start at frame 0");
+            bytes = "1" + readFileBytes(file);
+        } catch (const std::exception& e) {
+            bytes = std::string("0") + e.what();
+        }
+    }
+    bytes = distributed::broadcast(bytes);
+    if (bytes.empty() || bytes[0] != '1')
+        throw IoError(bytes.empty() ? file.string() : bytes.substr(1));
+    std::istringstream stream(bytes.substr(1));
+    Checkpoint checkpoint = readCheckpoint(stream, file.string());
     restoreCheckpoint(checkpoint, world_, scene_.fingerprint, file.string());
     totals_ = std::move(checkpoint.totals);
     previousWallSeconds_ = totals_.wallSeconds;
@@ -156,6 +190,7 @@ void RunDriver::resumeFromCheckpoint() {
     summary_.checkpoint = file;
     // stats.csv may hold rows of frames computed after the checkpoint by the
     // killed run: put it back to the checkpoint's rows; they are recomputed.
+    if (!writer_) return;
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
     if (output_.writeVtk) restoreCollection();
     if (world_.bodyCount() > 0)
@@ -164,19 +199,20 @@ void RunDriver::resumeFromCheckpoint() {
     notice(world_.frame() >= output_.frames
                ? fmt::format("{} is at frame {}: nothing left to simulate up to frame {}",
                              file.string(), world_.frame(), output_.frames)
-               : fmt::format("resuming from frame {} of {} ({})", world_.frame(),
-                             output_.frames, file.string()));
+               : fmt::format("resuming from frame {} of {} ({})", world_.frame(), output_.frames,
+                             file.string()));
 }
 
 void RunDriver::warnIfDiskTooSmall() const {
+    if (!writer_) return;
     std::error_code ec;
     const fs::space_info space = fs::space(dir_, ec);
     const int remaining = output_.frames - world_.frame();
     if (ec || remaining <= 0) return;
     const std::size_t n = world_.particleCount();
-    const double needed = double(frameBytes(output_, n)) * remaining +
-                          double(checkpointBytes(n, totals_.statsCsv.size() +
-                                                        totals_.bodiesCsv.size()));
+    const double needed =
+        double(frameBytes(output_, n)) * remaining +
+        double(checkpointBytes(n, totals_.statsCsv.size() + totals_.bodiesCsv.size()));
     if (double(space.available) < needed)
         notice(fmt::format(
             "{}: the {} remaining frames need about {:.0f} MiB but only {:.0f} MiB are free; the "
@@ -188,6 +224,7 @@ void RunDriver::warnIfDiskTooSmall() const {
 // reported before any file is cut short (writeFileAtomically would also
 // report it, but a near-full disk hurts everything else on the machine).
 void RunDriver::checkFreeSpace() const {
+    if (!writer_) return;
     std::error_code ec;
     const fs::space_info space = fs::space(dir_, ec);
     if (ec) return;  // unknown (some network file systems): the writes report failures
@@ -207,6 +244,7 @@ void RunDriver::checkFreeSpace() const {
 
 void RunDriver::startStats() {
     totals_.statsCsv = statsCsvHeader() + "\n";
+    if (!writer_) return;
     writeFileAtomically(dir_ / "stats.csv", [&](std::ostream& out) { out << totals_.statsCsv; });
     if (world_.bodyCount() == 0) return;
     totals_.bodiesCsv = bodiesCsvHeader() + "\n";
@@ -216,17 +254,20 @@ void RunDriver::startStats() {
 void RunDriver::record(const FrameReport& report) {
     const OutputTimer timer(summary_.outputSeconds);
     checkFreeSpace();
-    if (output_.writeParticles)
-        writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
-    if (output_.writeVtk) writeVtkFrame(report.frame);
-    if (options_.writeFrame) options_.writeFrame(report.frame, world_);
+    // Distributed: gathering the particles on rank 0 takes every rank.
+    if (distributed::anyRank(output_.writeParticles || output_.writeVtk || options_.writeFrame))
+        world_.particles();
     const std::string row = statsCsvRow(report) + "\n";
-    appendToFile(dir_ / "stats.csv", row);
     totals_.statsCsv += row;
-    if (world_.bodyCount() > 0) {
-        const std::string rows = bodiesCsvRows(world_);
-        appendToFile(dir_ / "bodies.csv", rows);
-        totals_.bodiesCsv += rows;
+    const std::string bodyRows = world_.bodyCount() > 0 ? bodiesCsvRows(world_) : "";
+    totals_.bodiesCsv += bodyRows;
+    if (writer_) {
+        if (output_.writeParticles)
+            writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
+        if (output_.writeVtk) writeVtkFrame(report.frame);
+        if (options_.writeFrame) options_.writeFrame(report.frame, world_);
+        appendToFile(dir_ / "stats.csv", row);
+        if (!bodyRows.empty()) appendToFile(dir_ / "bodies.csv", bodyRows);
     }
     totals_.maxDensityError = std::max(totals_.maxDensityError, report.state.maxDensityError);
     totals_.maxEscaped = std::max<std::uint64_t>(totals_.maxEscaped, report.state.escaped);
@@ -270,7 +311,7 @@ void RunDriver::saveCheckpoint() {
     checkpoint.totals = totals_;
     checkpoint.totals.wallSeconds = wallSeconds();
     const fs::path file = dir_ / kCheckpointFileName;
-    writeCheckpoint(file, checkpoint);
+    if (writer_) writeCheckpoint(file, checkpoint);
     summary_.checkpoint = file;
     lastCheckpointFrame_ = world_.frame();
     lastCheckpointTime_ = Clock::now();
@@ -281,8 +322,10 @@ bool RunDriver::checkpointDue() const {
     const int frames = world_.frame() - lastCheckpointFrame_;
     const double seconds =
         std::chrono::duration<double>(Clock::now() - lastCheckpointTime_).count();
-    return (output_.checkpointEvery > 0 && frames >= output_.checkpointEvery) ||
-           (output_.checkpointSeconds > 0.0 && seconds >= output_.checkpointSeconds);
+    // Ranks' clocks differ: checkpoint when any rank finds it due.
+    return distributed::anyRank(
+        (output_.checkpointEvery > 0 && frames >= output_.checkpointEvery) ||
+        (output_.checkpointSeconds > 0.0 && seconds >= output_.checkpointSeconds));
 }
 
 // A frame failed: the frames before it are written; the world holds the
@@ -298,8 +341,8 @@ void RunDriver::fail(StepError error) {
             lastCheckpointFrame_, summary_.checkpoint.string());
     else
         where = "; there is no checkpoint yet: change the scene and run again from frame 0";
-    error.message = fmt::format("{}; the run stopped: frames up to {} are written{}",
-                                error.message, lastGood, where);
+    error.message = fmt::format("{}; the run stopped: frames up to {} are written{}", error.message,
+                                lastGood, where);
     summary_.error = std::move(error);
 }
 
@@ -316,7 +359,8 @@ RunSummary RunDriver::run() {
     }
     warnIfDiskTooSmall();
     while (world_.frame() < output_.frames) {
-        if (options_.stopRequested && options_.stopRequested()) {
+        // A signal may reach the ranks at different frames: stop together.
+        if (distributed::anyRank(options_.stopRequested && options_.stopRequested())) {
             summary_.interrupted = true;
             break;
         }
@@ -351,7 +395,8 @@ RunSummary RunDriver::finish() {
         totals_.solverMilliseconds > 0.0
             ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
             : 0.0;
-    writeSummary(dir_ / "summary.json", scene_, world_, s);
+    const std::vector<std::size_t> rankParticles = world_.backend().particlesPerRank();
+    if (writer_) writeSummary(dir_ / "summary.json", scene_, world_, s, rankParticles);
     return s;
 }
 

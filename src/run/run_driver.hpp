@@ -46,6 +46,9 @@ class RunDriver {
     const RunOptions& options_;
     const OutputParams& output_;
     std::filesystem::path dir_;
+    // Rank 0 writes the files; in a distributed run the other ranks compute
+    // their slabs and take part in the gathers (include/pbf/distributed.hpp).
+    bool writer_;
     World world_;
     // Totals for summary.json; statsCsv holds every row so far (the file is
     // appended to, the checkpoint carries the rows so that a resume can put

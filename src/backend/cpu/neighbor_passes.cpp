@@ -143,7 +143,7 @@ struct DensityPass {
     PairConstants k;
     float gradScale;  // grad C = m/rho0 grad W
     float spiky;
-    double* compression;  // sum of C_i over the range (the iteration control's reduction)
+    std::int64_t* compression;  // sum of C_i over the range, fixed point (core/iteration_control.hpp)
 };
 
 template <bool Wide>
@@ -187,18 +187,18 @@ struct DensityParticle {
         const float rho = c.particleMass * kernelSum;
         p.density[i] = rho;
         const float constraint = std::max(rho * c.inverseRestDensity - 1.0f, 0.0f);
-        *p.compression += constraint;
+        *p.compression += fixedPointCompression(constraint);
         const float lambdaI =
             -constraint / (lengthSquared(gradI) + gradSquaredSum + c.relaxationEpsilon);
         p.withLambda[i] = {x.x, x.y, x.z, lambdaI};
     }
 };
 
-double DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+std::int64_t DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                         const NeighborSearch& search, const PackedPoint* predicted, float* density,
                         PackedPoint* withLambda, std::size_t begin, std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;
-    double compression = 0.0;
+    std::int64_t compression = 0;
     forEachListBlock(search, begin, end,
                      [&](std::size_t first, std::size_t last, const NeighborList& block) {
                          const DensityPass pass{c,
@@ -425,7 +425,7 @@ HWY_EXPORT(DensityAndLambda);
 HWY_EXPORT(CorrectPositions);
 HWY_EXPORT(ViscosityAndVorticity);
 
-double computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                                const NeighborSearch& search, const PackedPoint* predicted,
                                float* density, PackedPoint* withLambda, std::size_t begin,
                                std::size_t end) {

@@ -70,6 +70,18 @@ class NeighborSearch {
     std::size_t cellCount() const { return cellCount_; }
     std::uint32_t cellIndexOf(const Vec3& p) const;
 
+    // Planes of cells across the slowest-varying axis (the longest): cells
+    // [c * cellsPerPlane(), (c + 1) * cellsPerPlane()) form plane c, so the
+    // particles of consecutive planes are consecutive after the sort (a
+    // distributed run gives each process a slab of planes).
+    std::uint32_t planeCount() const { return cells_[2]; }
+    std::size_t cellsPerPlane() const { return std::size_t{cells_[0]} * cells_[1]; }
+    std::uint32_t planeOf(const Vec3& p) const {
+        return static_cast<std::uint32_t>(cellIndexOf(p) / cellsPerPlane());
+    }
+    // First sorted index of cell c (c <= cellCount()), valid after sortByCell.
+    std::uint32_t cellStart(std::size_t c) const { return cellStart_[c]; }
+
     // Stable counting sort of the particles by the cell of `positions`.
     // Writes perm (new index -> old index); sizes its buffers to the particle
     // count (no allocation once the count stops growing).

@@ -1,6 +1,8 @@
 #include "backend/cpu/solver.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 #include "backend/cpu/solver_stages.hpp"
 #include "core/iteration_control.hpp"
@@ -29,20 +31,25 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
 }
 
 void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
-                  ReactionAccumulator* reactions) {
+                  ReactionAccumulator* reactions, HaloExchange* halo) {
     const SimulationParams& params = context.params;
     const SolverConstants& c = context.constants;
     const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
     const FluidParams& fluid = params.fluid;
     const SolverParams& s = params.solver;
     const bool withVorticity = fluid.vorticity > 0.0f;
-    const std::size_t n = p.size();
-    ensureCapacity(n, withVorticity);
     const Aabb& box = c.collisionBox;
     const auto stepStart = Clock::now();
+    times.exchange = 0.0;
+    // Halo exchanges, timed apart (they are also inside the stage they serve).
+    auto exchange = [&](auto&& values) {
+        const auto start = Clock::now();
+        halo->exchange(values);
+        times.exchange += millisecondsSince(start);
+    };
 
     auto t = Clock::now();
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+    detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
         stages::predictPositions(params.gravity, dt, box, p.position, p.velocity, p.predicted, b,
                                  e);
     });
@@ -50,30 +57,42 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     // follows the particles through reorder, emitters and checkpoints;
     // dropped while the warm start is off.
     const bool warmStart = s.warmStart > 0.0f;
-    p.solveAcceleration.resize(warmStart ? n : 0);
+    p.solveAcceleration.resize(warmStart ? p.size() : 0);
     if (warmStart) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
             stages::warmStartPredictions(s.warmStart, dt, box, p.solveAcceleration, p.predicted, b,
                                          e);
         });
     }
     if (solids) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
             stages::resolveSolidCollisions(c, *solids, reactions, p.position, p.predicted, b, e);
         });
     }
     times.predict = millisecondsSince(t);
 
     t = Clock::now();
-    search_.sortByCell(p.predicted, perm_);
-    times.gridBuild = millisecondsSince(t);
+    if (halo) {
+        halo->distribute(p);
+        if (reactions) reactions->grow(p.size());
+        times.exchange += millisecondsSince(t);
+    }
+    const std::size_t n = p.size();
+    ensureCapacity(n, withVorticity);
     auto part = Clock::now();
+    search_.sortByCell(p.predicted, perm_);
+    times.gridBuild = millisecondsSince(part);
+    part = Clock::now();
     p.reorder(perm_);
     times.reorder = millisecondsSince(part);
     part = Clock::now();
     search_.buildNeighborLists(p.predicted);
     times.neighborLists = millisecondsSince(part);
     times.neighborSearch = millisecondsSince(t);
+    // The particles whose values this process computes; the rest are ghosts.
+    std::size_t ownedBegin = 0, ownedEnd = n;
+    if (halo) halo->ownedRange(search_, ownedBegin, ownedEnd);
+    auto forOwned = [&](auto&& fn) { detail::parallelForRange(ownedBegin, ownedEnd, fn); };
 
     t = Clock::now();
     float* density = p.density.data();
@@ -88,23 +107,32 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     blockCompression_.resize((n + detail::kBlockSize - 1) / detail::kBlockSize);
     for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
         part = Clock::now();
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        std::fill(blockCompression_.begin(), blockCompression_.end(), std::int64_t{0});
+        forOwned([&](std::size_t b, std::size_t e) {
             blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(
                 c, solids, search_, predicted, density, withLambda, b, e);
         });
+        if (halo) {
+            exchange(withLambda);
+            exchange(density);
+        }
         times.lambda += millisecondsSince(part);
         // The average compression of the state the density pass just saw,
-        // summed block by block in a fixed order (deterministic).
-        double compression = 0.0;
-        for (const double block : blockCompression_) compression += block;
-        if (control.converged(corrections, n > 0 ? compression / double(n) : 0.0)) break;
+        // over the owned particles of every process (exact integer sums).
+        if (control.errorControlled()) {
+            std::int64_t totals[2] = {0, std::int64_t(ownedEnd - ownedBegin)};
+            for (const std::int64_t block : blockCompression_) totals[0] += block;
+            if (halo) halo->sum(totals, 2);
+            if (control.converged(corrections, averageCompression(totals[0], totals[1]))) break;
+        }
         part = Clock::now();
         // Reads (x*, lambda) of the neighbours, writes the corrected x* over
         // the previous iteration's: the next density pass reads it.
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::correctPositions(c, solids, reactions, search_, p.position, withLambda,
                                      predicted, b, e);
         });
+        if (halo) exchange(predicted);
         times.deltaP += millisecondsSince(part);
         times.iterations += 1.0;
     }
@@ -121,29 +149,37 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
         });
     }
     // x* is still packed in `predicted`; (v, rho) go to the other buffer.
+    // Ghosts included: their x, x* and density are their owners' values, so
+    // (x* - x) / dt is their owners' velocity without an exchange.
     PackedPoint* velocityDensity = withLambda;
     detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
         stages::updateVelocity(1.0f / dt, p.position, p.predicted, density, p.velocity,
                                velocityDensity, b, e);
     });
     if (fluid.viscosity > 0.0f || withVorticity) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::applyViscosityAndComputeVorticity(
                 c, fluid.viscosity, search_, predicted, velocityDensity,
                 withVorticity ? &vorticity_ : nullptr, p.velocity, b, e);
         });
     }
     if (withVorticity) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+        if (halo) exchange(vorticity_);
+        forOwned([&](std::size_t b, std::size_t e) {
             stages::applyVorticityConfinement(c, fluid.vorticity, dt, search_, p.predicted,
                                               vorticity_, density, p.velocity, b, e);
         });
     }
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+    forOwned([&](std::size_t b, std::size_t e) {
         stages::respondToBoundaries(c, solids, s.restitution, s.friction, dt, reactions,
                                     p.predicted, p.velocity, b, e);
         stages::commitPositions(p.predicted, p.position, b, e);
     });
+    if (halo) {
+        part = Clock::now();
+        halo->collect(p);
+        times.exchange += millisecondsSince(part);
+    }
     times.postProcess = millisecondsSince(t);
     times.total = millisecondsSince(stepStart);
 }

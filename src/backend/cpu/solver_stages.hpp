@@ -5,6 +5,8 @@
 // is what makes the step deterministic under any thread count.
 #pragma once
 
+#include <cstdint>
+
 #include <cstddef>
 
 #include "backend/cpu/neighbor_search.hpp"
@@ -44,7 +46,7 @@ void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::siz
 // so that particles at a free surface (missing neighbours) are never pulled in.
 // Writes x*_i with lambda_i in w to `withLambda` (the next pass reads both).
 // Returns the sum of C_i over the range (for the iteration control).
-double computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
+std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
                              const NeighborSearch& search, const PackedPoint* predicted,
                              float* density, PackedPoint* withLambda, std::size_t begin,
                              std::size_t end);

@@ -114,16 +114,16 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     const IterationControl control(params.solver);
     for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
         auto part = Clock::now();
-        double compression = 0.0;
+        std::int64_t compression = 0;  // fixed point, as the CPU backend sums it
         for (std::size_t i = 0; i < n; ++i) {
             const reference::DensityAndLambda r =
                 reference::densityAndLambda(c, solids, predicted_, grid_.neighbors(i), i);
             density_[i] = r.density;
             lambda_[i] = r.lambda;
-            compression += reference::densityConstraint(c, r.density);
+            compression += fixedPointCompression(reference::densityConstraint(c, r.density));
         }
         times_.lambda += millisecondsSince(part);
-        if (control.converged(corrections, n > 0 ? compression / double(n) : 0.0)) break;
+        if (control.converged(corrections, averageCompression(compression, n))) break;
         part = Clock::now();
         for (std::size_t i = 0; i < n; ++i) {
             const Vec3 dp = reference::positionCorrection(c, solids, predicted_, lambda_,

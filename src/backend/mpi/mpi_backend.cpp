@@ -1,0 +1,309 @@
+// The distributed backend: each MPI rank runs the CPU backend's solver on
+// its slab of the grid (backend/mpi/slab_halo.hpp) and answers the World's
+// reductions with global reductions. Scene set-up (solids, emitters, rigid
+// bodies) is replicated on every rank by the World; particle files are
+// written by rank 0 from download(), which gathers the slabs in rank order:
+// the one-process memory order.
+#include "backend/mpi/mpi_backend.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "backend/cpu/solver.hpp"
+#include "backend/mpi/slab_halo.hpp"
+#include "core/reactions.hpp"
+
+namespace pbf {
+namespace {
+
+// Sums in rank order on every rank (all ranks get the same bits, whatever
+// algorithm the MPI library picks for a reduction).
+std::vector<double> sumOverRanks(MPI_Comm comm, const std::vector<double>& mine, int ranks) {
+    std::vector<double> all(mine.size() * std::size_t(ranks));
+    checkMpi(MPI_Allgather(mine.data(), int(mine.size()), MPI_DOUBLE, all.data(), int(mine.size()),
+                           MPI_DOUBLE, comm),
+             "MPI_Allgather (sums)");
+    std::vector<double> total(mine.size(), 0.0);
+    for (int r = 0; r < ranks; ++r)
+        for (std::size_t k = 0; k < mine.size(); ++k)
+            total[k] += all[std::size_t(r) * mine.size() + k];
+    return total;
+}
+
+class MpiBackend final : public Backend {
+  public:
+    MpiBackend(const SimulationParams& params, const BackendOptions& options)
+        : solver_(params.domain, params.kernelRadius(), options.compactListSpan),
+          halo_(MPI_COMM_WORLD, solver_.neighborSearch()) {
+        MPI_Comm_rank(comm_, &rank_);
+        MPI_Comm_size(comm_, &ranks_);
+        halo_.setKeys(&keys_);
+    }
+
+    BackendKind kind() const override { return BackendKind::Mpi; }
+    std::size_t size() const override { return std::size_t(total_); }
+
+    // Every rank is handed the same particles (the World's emitters run on
+    // every rank); each keeps those in its slab and counts the ids of all.
+    void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
+                float density) override {
+        if (positions.size() != velocities.size())
+            throw std::invalid_argument(
+                "Backend::append: positions and velocities differ in length");
+        for (std::size_t k = 0; k < positions.size(); ++k) {
+            if (halo_.ownerOf(positions[k]) == rank_) {
+                store_.add(positions[k], velocities[k], density);
+                keys_.push_back(total_ + k);  // after every particle there is: appended last
+            } else {
+                store_.setNextId(store_.nextId() + 1);
+            }
+        }
+        total_ += positions.size();
+    }
+
+    void step(const SolverContext& context, float dt) override {
+        reactions_.reset(store_.size(), context.solids);
+        solver_.step(context, store_, dt, times_, reactions_.active() ? &reactions_ : nullptr,
+                     &halo_);
+        renumber();
+        // The coupled solids' reactions: this rank's share, summed over ranks.
+        reactions_.forces(context.constants.particleMass, dt, lastReactions_);
+        if (!lastReactions_.empty()) {
+            std::vector<double> mine;
+            for (const SolidReaction& r : lastReactions_)
+                for (const Vec3& v : {r.force, r.torque})
+                    mine.insert(mine.end(), {double(v.x), double(v.y), double(v.z)});
+            const std::vector<double> total = sumOverRanks(comm_, mine, ranks_);
+            for (std::size_t s = 0; s < lastReactions_.size(); ++s) {
+                const double* t = total.data() + 6 * s;
+                lastReactions_[s].force = {float(t[0]), float(t[1]), float(t[2])};
+                lastReactions_[s].torque = {float(t[3]), float(t[4]), float(t[5])};
+            }
+        }
+    }
+    const StageTimes& lastStageTimes() const override { return times_; }
+    std::span<const SolidReaction> lastReactions() const override { return lastReactions_; }
+
+    float maxSpeed() const override {
+        float speed = pbf::maxSpeed(store_);
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &speed, 1, MPI_FLOAT, MPI_MAX, comm_),
+                 "MPI_Allreduce (largest speed)");
+        return speed;
+    }
+
+    // The first bad particle in the one-process memory order: the lowest
+    // rank that has one, its lowest index.
+    std::optional<BadParticle> findBadParticle(double speedLimit) const override {
+        const std::optional<BadParticle> mine = pbf::findBadParticle(store_, speedLimit);
+        int has = mine ? 1 : 0;
+        std::vector<int> all(std::size_t(ranks_), 0);
+        checkMpi(MPI_Allgather(&has, 1, MPI_INT, all.data(), 1, MPI_INT, comm_),
+                 "MPI_Allgather (state guard)");
+        const auto first = std::find(all.begin(), all.end(), 1);
+        if (first == all.end()) return std::nullopt;
+        const int root = int(first - all.begin());
+        BadParticle bad = mine.value_or(BadParticle{});
+        double values[7] = {double(offset_ + bad.index),
+                            double(bad.id),
+                            bad.position.x,
+                            bad.position.y,
+                            bad.position.z,
+                            bad.velocity.x,
+                            bad.velocity.y};
+        float vz = bad.velocity.z;
+        checkMpi(MPI_Bcast(values, 7, MPI_DOUBLE, root, comm_), "MPI_Bcast (state guard)");
+        checkMpi(MPI_Bcast(&vz, 1, MPI_FLOAT, root, comm_), "MPI_Bcast (state guard)");
+        int length = int(bad.problem.size());
+        checkMpi(MPI_Bcast(&length, 1, MPI_INT, root, comm_), "MPI_Bcast (state guard)");
+        bad.problem.resize(std::size_t(length));
+        checkMpi(MPI_Bcast(bad.problem.data(), length, MPI_CHAR, root, comm_),
+                 "MPI_Bcast (state guard)");
+        bad.index = std::size_t(values[0]);
+        bad.id = std::uint32_t(values[1]);
+        bad.position = {float(values[2]), float(values[3]), float(values[4])};
+        bad.velocity = {float(values[5]), float(values[6]), vz};
+        return bad;
+    }
+
+    StateStatistics statistics(const SolverContext& context) const override {
+        const StateStatistics s =
+            computeStatistics(store_, context.constants, context.params.domain, context.solids,
+                              context.params.particleRadius);
+        const std::vector<double> sums = sumOverRanks(
+            comm_,
+            {double(s.particles), s.averageDensityError * double(s.particles), s.kineticEnergy,
+             s.momentum.x, s.momentum.y, s.momentum.z, double(s.escaped), double(s.insideSolid)},
+            ranks_);
+        double maxima[2] = {s.maxDensityError, s.maxSpeed};
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, maxima, 2, MPI_DOUBLE, MPI_MAX, comm_),
+                 "MPI_Allreduce (statistics)");
+        StateStatistics total;
+        total.particles = std::size_t(sums[0]);
+        total.averageDensityError = sums[0] > 0.0 ? sums[1] / sums[0] : 0.0;
+        total.kineticEnergy = sums[2];
+        total.momentum = {float(sums[3]), float(sums[4]), float(sums[5])};
+        total.escaped = std::size_t(sums[6]);
+        total.insideSolid = std::size_t(sums[7]);
+        total.maxDensityError = maxima[0];
+        total.maxSpeed = maxima[1];
+        return total;
+    }
+
+    const ParticleStore* hostState() const override { return nullptr; }
+    ParticleStore* mutableHostState() override { return nullptr; }
+
+    // Gathers the slabs on rank 0 in rank order (the one-process memory
+    // order); the other ranks get no particles (only rank 0 writes files).
+    void download(ParticleStore& out) const override {
+        std::vector<ParticleRecord> mine(store_.size());
+        for (std::size_t i = 0; i < store_.size(); ++i) mine[i] = recordOf(store_, i, keys_[i]);
+        // The warm start's accelerations, kept by every rank that has
+        // particles while it is on (a rank may have none).
+        int accelerated = store_.solveAcceleration.x.empty() ? 0 : 1;
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &accelerated, 1, MPI_INT, MPI_MAX, comm_),
+                 "MPI_Allreduce (warm start)");
+        int count = int(mine.size());
+        const auto ranks = static_cast<std::size_t>(ranks_);
+        std::vector<int> counts(ranks, 0), offsets(ranks, 0);
+        checkMpi(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_),
+                 "MPI_Gather (particle counts)");
+        std::vector<ParticleRecord> all;
+        if (rank_ == 0) {
+            std::exclusive_scan(counts.begin(), counts.end(), offsets.begin(), 0);
+            all.resize(std::size_t(offsets.back() + counts.back()));
+        }
+        checkMpi(MPI_Gatherv(mine.data(), count, halo_.recordType(), all.data(), counts.data(),
+                             offsets.data(), halo_.recordType(), 0, comm_),
+                 "MPI_Gatherv (particles)");
+        // Particles appended since the last step sit at the end of each
+        // rank's part; one process has them at the end of everything.
+        auto byKey = [](const ParticleRecord& a, const ParticleRecord& b) { return a.key < b.key; };
+        if (!std::is_sorted(all.begin(), all.end(), byKey))
+            std::sort(all.begin(), all.end(), byKey);
+        ParticleStore result;
+        result.reserve(all.size());
+        for (const ParticleRecord& r : all) appendRecord(result, r, accelerated != 0);
+        result.setNextId(store_.nextId());
+        out = std::move(result);
+    }
+
+    // Rank 0's state is split into slabs (balanced for its particles); the
+    // other ranks' arguments are ignored.
+    void upload(ParticleStore state) override {
+        unsigned long long header[3] = {state.size(), state.nextId(),
+                                        state.solveAcceleration.x.empty() ? 0ull : 1ull};
+        checkMpi(MPI_Bcast(header, 3, MPI_UNSIGNED_LONG_LONG, 0, comm_), "MPI_Bcast (upload)");
+        const NeighborSearch& grid = solver_.neighborSearch();
+        std::vector<std::uint64_t> counts(grid.planeCount(), 0);
+        if (rank_ == 0)
+            for (std::size_t i = 0; i < state.size(); ++i)
+                ++counts[grid.planeOf(state.predicted.get(i))];
+        checkMpi(MPI_Bcast(counts.data(), int(counts.size()), MPI_UINT64_T, 0, comm_),
+                 "MPI_Bcast (upload)");
+        halo_.balance(counts, true);
+        std::vector<int> sendCounts(std::size_t(ranks_), 0), offsets(std::size_t(ranks_), 0);
+        std::vector<ParticleRecord> records;
+        if (rank_ == 0) {
+            std::vector<int> owner(state.size());
+            for (std::size_t i = 0; i < state.size(); ++i) {
+                owner[i] = halo_.ownerOf(state.predicted.get(i));
+                ++sendCounts[std::size_t(owner[i])];
+            }
+            std::exclusive_scan(sendCounts.begin(), sendCounts.end(), offsets.begin(), 0);
+            records.resize(state.size());
+            std::vector<int> fill = offsets;
+            for (std::size_t i = 0; i < state.size(); ++i) {
+                records[std::size_t(fill[std::size_t(owner[i])]++)] = recordOf(state, i, i);
+            }
+        }
+        int count = 0;
+        checkMpi(MPI_Scatter(sendCounts.data(), 1, MPI_INT, &count, 1, MPI_INT, 0, comm_),
+                 "MPI_Scatter (upload)");
+        std::vector<ParticleRecord> mine(static_cast<std::size_t>(count));
+        checkMpi(MPI_Scatterv(records.data(), sendCounts.data(), offsets.data(), halo_.recordType(),
+                              mine.data(), count, halo_.recordType(), 0, comm_),
+                 "MPI_Scatterv (upload)");
+        store_ = ParticleStore();
+        store_.reserve(mine.size());
+        keys_.clear();
+        for (const ParticleRecord& r : mine) {
+            appendRecord(store_, r, header[2] != 0);
+            keys_.push_back(r.key);
+        }
+        store_.setNextId(std::uint32_t(header[1]));
+        total_ = header[0];
+        updateOffset();
+    }
+
+    BackendDiagnostics diagnostics() const override {
+        const NeighborSearch& search = solver_.neighborSearch();
+        BackendDiagnostics d;
+        d.memoryBytes = store_.memoryBytes() + solver_.memoryBytes();
+        d.neighborsPerParticle =
+            double(search.totalNeighborCount()) / double(std::max<std::size_t>(1, store_.size()));
+        d.compactListShare = double(search.compactBlockCount()) /
+                             double(std::max<std::size_t>(1, search.blockCount()));
+        return d;
+    }
+
+    std::vector<std::size_t> particlesPerRank() const override {
+        unsigned long long mine = store_.size();
+        std::vector<unsigned long long> all(static_cast<std::size_t>(ranks_));
+        checkMpi(MPI_Allgather(&mine, 1, MPI_UNSIGNED_LONG_LONG, all.data(), 1,
+                               MPI_UNSIGNED_LONG_LONG, comm_),
+                 "MPI_Allgather (particles per rank)");
+        return std::vector<std::size_t>(all.begin(), all.end());
+    }
+
+  private:
+    // After a step: the owned particles in their sorted order are the
+    // one-process order's range [offset, offset + size) of this rank.
+    void renumber() {
+        updateOffset();
+        keys_.resize(store_.size());
+        std::iota(keys_.begin(), keys_.end(), offset_);
+        unsigned long long mine = store_.size(), total = 0;
+        checkMpi(MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
+                 "MPI_Allreduce (particle count)");
+        if (total != total_)
+            throw std::logic_error("distributed step: " + std::to_string(total) +
+                                   " particles after the step, " + std::to_string(total_) +
+                                   " before");
+    }
+    void updateOffset() {
+        unsigned long long mine = store_.size(), before = 0;
+        checkMpi(MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
+                 "MPI_Exscan (particle offsets)");
+        offset_ = rank_ == 0 ? 0 : before;  // MPI_Exscan leaves rank 0's undefined
+    }
+
+    MPI_Comm comm_ = MPI_COMM_WORLD;
+    int rank_ = 0;
+    int ranks_ = 1;
+    Solver solver_;
+    SlabHalo halo_;
+    ParticleStore store_;              // the particles this rank owns
+    std::vector<std::uint64_t> keys_;  // their places in the one-process order
+    std::uint64_t total_ = 0;          // particles on all ranks
+    std::uint64_t offset_ = 0;         // particles on the ranks before this one
+    StageTimes times_;
+    ReactionAccumulator reactions_;
+    std::vector<SolidReaction> lastReactions_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> makeMpiBackend(const SimulationParams& params,
+                                        const BackendOptions& options) {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized)
+        throw std::runtime_error("the mpi backend needs MPI: start pbf with mpirun or srun");
+    return std::make_unique<MpiBackend>(params, options);
+}
+
+}  // namespace pbf

@@ -1,0 +1,138 @@
+#!/usr/bin/env bash
+# Distributed runs (docs/distributed.md) against one process, through the CLI:
+#   * the dam break (the fluid crosses the tank: particles migrate between
+#     slabs and the slabs are re-cut) on 2 and 3 ranks writes the same PLY
+#     frames as one process, byte for byte (bit-identical: see
+#     src/backend/mpi/slab_halo.hpp for why that holds), and the same
+#     stats.csv up to the summation order of the reductions;
+#   * a scene with an emitter, a solid, XSPH and vorticity confinement
+#     (every halo exchange) on 2 ranks, also over TCP on loopback
+#     (--mca btl tcp,self: the transport two hosts use);
+#   * checkpoints: 2 ranks stop at frame 8, 3 ranks and 1 process resume to
+#     the end: frames equal the uninterrupted one-process run's;
+#   * summary.json has "ranks" and "rank_particles" adding up to "particles".
+# Usage: mpi_test.sh PBF WORKDIR SOURCE_DIR MPI_BUILT MPIRUN
+set -euo pipefail
+pbf=$1
+work=$2
+src=$3
+built=$4
+mpirun=${5:-}
+if [ "$built" != "ON" ] || [ -z "$mpirun" ] || [ ! -x "$mpirun" ]; then
+    echo "SKIP: pbf was built without MPI (PBF_MPI=$built) or mpirun is missing; install" \
+         "libopenmpi-dev openmpi-bin and reconfigure to run the distributed tests"
+    exit 77
+fi
+rm -rf "$work"
+mkdir -p "$work"
+export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
+mpi=("$mpirun" --oversubscribe --allow-run-as-root --mca btl self,vader)
+
+fail() { echo "FAIL: $*"; exit 1; }
+
+# Byte comparison of every frame of two runs; prints the number compared.
+same_frames() {
+    local a=$1 b=$2 count=0
+    for f in "$a"/frame_*.ply; do
+        cmp -s "$f" "$b/$(basename "$f")" || fail "$b/$(basename "$f") differs from $f"
+        count=$((count + 1))
+    done
+    [ "$count" -gt 0 ] || fail "no frames in $a"
+    echo "$count"
+}
+
+# stats.csv: the columns of the state equal; sums (kinetic energy, average
+# density error) to 1e-9 relative: the ranks' partial sums are added in
+# another order than one process's blocks (double sums of float terms, so
+# the reassociation error is ~1e-16 per term); timings are not compared.
+same_stats() {
+    python3 - "$1/stats.csv" "$2/stats.csv" <<'PY'
+import csv, sys
+a = list(csv.DictReader(open(sys.argv[1])))
+b = list(csv.DictReader(open(sys.argv[2])))
+assert len(a) == len(b) and len(a) > 1, f"{len(a)} vs {len(b)} rows"
+exact = ["frame", "particles", "substeps", "iterations", "max_density_error", "escaped",
+         "inside_solid", "max_speed"]
+close = ["time", "avg_density_error", "kinetic_energy"]
+for ra, rb in zip(a, b):
+    for k in exact:
+        assert ra[k] == rb[k], f"frame {ra['frame']}: {k} {ra[k]} vs {rb[k]}"
+    for k in close:
+        x, y = float(ra[k]), float(rb[k])
+        assert abs(x - y) <= 1e-9 * max(abs(x), abs(y), 1e-30), f"frame {ra['frame']}: {k} {x} vs {y}"
+PY
+}
+
+check_summary() {
+    python3 - "$1/summary.json" "$2" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+ranks = int(sys.argv[2])
+assert s["ranks"] == ranks, s["ranks"]
+assert len(s["rank_particles"]) == ranks and sum(s["rank_particles"]) == s["particles"], s
+# Load balance: every slab holds a fair share at the end.
+mean = s["particles"] / ranks
+assert all(abs(n - mean) <= 0.35 * mean for n in s["rank_particles"]), s["rank_particles"]
+PY
+}
+
+base=(run "$src/scenes/dam_break.json" -q --set particle_radius=0.02 --no-plot --render none
+      --checkpoint-every 0 --checkpoint-seconds 0)
+dam=("${base[@]}" --frames 18)
+"$pbf" "${dam[@]}" --out "$work/dam1" > /dev/null
+for n in 2 3; do
+    "${mpi[@]}" -np $n "$pbf" "${dam[@]}" --out "$work/dam$n" > "$work/dam$n.log" 2>&1 ||
+        { cat "$work/dam$n.log"; fail "dam break on $n ranks failed"; }
+    frames=$(same_frames "$work/dam1" "$work/dam$n")
+    same_stats "$work/dam1" "$work/dam$n" || fail "stats.csv of $n ranks"
+    check_summary "$work/dam$n" $n || fail "summary.json of $n ranks"
+    echo "dam break, $n ranks: $frames frames bit-identical to one process"
+done
+# The front must have crossed the tank (else nothing migrated).
+python3 - "$work/dam1/frame_00018.ply" <<'PY' || fail "the dam break front did not cross the tank"
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+header_end = data.index(b"end_header\n") + len(b"end_header\n")
+n = int([l for l in data[:header_end].split(b"\n") if l.startswith(b"element vertex")][0].split()[2])
+xs = [struct.unpack_from("<f", data, header_end + 32 * i)[0] for i in range(n)]
+assert max(xs) > 1.4, max(xs)
+PY
+
+# The accuracy options: the tolerance's stopping test sums over all ranks
+# (exact fixed-point sums: the same iteration count as one process) and the
+# warm start's accelerations migrate and are gathered with the particles;
+# the run stops at frame 8 on 2 ranks and resumes on 3.
+accurate=("${base[@]}" --set solver.max_density_error=0.002 --set solver.warm_start=0.4
+          --set solver.over_relaxation=1.2)
+"$pbf" "${accurate[@]}" --frames 12 --out "$work/acc1" > /dev/null
+"${mpi[@]}" -np 2 "$pbf" "${accurate[@]}" --frames 8 --out "$work/acc2" > "$work/acc2.log" 2>&1 ||
+    { cat "$work/acc2.log"; fail "accuracy options on 2 ranks failed"; }
+"${mpi[@]}" -np 3 "$pbf" "${accurate[@]}" --frames 12 --resume --out "$work/acc2" > "$work/acc3.log" 2>&1 ||
+    { cat "$work/acc3.log"; fail "accuracy options resumed on 3 ranks failed"; }
+echo "tolerance + warm start + omega, 2 ranks -> resume on 3: $(same_frames "$work/acc1" "$work/acc2") frames bit-identical"
+
+pour=(run "$src/tests/data/mpi_pour.json" -q --no-plot --render none --checkpoint-every 0
+      --checkpoint-seconds 0)
+"$pbf" "${pour[@]}" --out "$work/pour1" > /dev/null
+"${mpi[@]}" -np 2 "$pbf" "${pour[@]}" --out "$work/pour2" > "$work/pour2.log" 2>&1 ||
+    { cat "$work/pour2.log"; fail "emitter scene on 2 ranks failed"; }
+echo "emitter + solid + vorticity, 2 ranks: $(same_frames "$work/pour1" "$work/pour2") frames bit-identical"
+"$mpirun" --oversubscribe --allow-run-as-root --mca btl tcp,self --mca btl_tcp_if_include lo \
+    -np 2 "$pbf" "${pour[@]}" --out "$work/pour_tcp" > "$work/pour_tcp.log" 2>&1 ||
+    { cat "$work/pour_tcp.log"; fail "2 ranks over TCP failed"; }
+echo "over TCP (loopback), 2 ranks: $(same_frames "$work/pour1" "$work/pour_tcp") frames bit-identical"
+
+# Checkpoints across rank counts.
+"${mpi[@]}" -np 2 "$pbf" "${base[@]}" --frames 8 --out "$work/resume3" > "$work/ck.log" 2>&1 ||
+    { cat "$work/ck.log"; fail "2-rank run to frame 8 failed"; }
+cp -r "$work/resume3" "$work/resume1"
+rm -f "$work"/resume{1,3}/frame_0001*.ply
+"${mpi[@]}" -np 3 "$pbf" "${dam[@]}" --resume --out "$work/resume3" > "$work/r3.log" 2>&1 ||
+    { cat "$work/r3.log"; fail "resume on 3 ranks failed"; }
+"$pbf" "${dam[@]}" --resume --out "$work/resume1" > "$work/r1.log" 2>&1 ||
+    { cat "$work/r1.log"; fail "resume in one process failed"; }
+[ -e "$work/resume3/frame_00018.ply" ] || fail "the resumed run did not reach frame 18"
+echo "2 ranks -> resume on 3: $(same_frames "$work/dam1" "$work/resume3") frames bit-identical"
+echo "2 ranks -> resume on 1: $(same_frames "$work/dam1" "$work/resume1") frames bit-identical"
+check_summary "$work/resume3" 3 || fail "summary.json after the resume on 3 ranks"
+echo "PASS"
