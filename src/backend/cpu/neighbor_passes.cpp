@@ -14,6 +14,7 @@
 
 #include "backend/cpu/simd-inl.h"
 #include "core/boundary.hpp"
+#include "core/iteration_control.hpp"
 #include "core/reactions.hpp"
 #include "backend/cpu/solver_stages.hpp"
 
