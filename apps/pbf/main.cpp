@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     const auto render = pbf::cli::addRenderCommand(app);
 #endif
     const auto mesh = pbf::cli::addMeshCommand(app);
+    const auto foam = pbf::cli::addFoamCommand(app);
     const auto plot = pbf::cli::addPlotCommand(app);
     const auto validate = pbf::cli::addValidateCommand(app);
     try {
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
         if (app.got_subcommand("render")) return render();
 #endif
         if (app.got_subcommand("mesh")) return mesh();
+        if (app.got_subcommand("foam")) return foam();
         if (app.got_subcommand("plot")) return plot();
         if (app.got_subcommand("validate")) return validate();
     } catch (const std::exception& e) {

@@ -19,6 +19,7 @@
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
 #include "pbf/surface/anisotropic.hpp"
+#include "pbf/surface/diffuse.hpp"
 #include "pbf/surface/mesh_frames.hpp"
 #include "pbf/surface/vdb_points.hpp"
 #include "pbf/world.hpp"
@@ -596,3 +597,134 @@ TEST(MeshFrames, BadDirectoriesAndFramesAreReportedWithTheName) {
 }
 
 }  // namespace
+
+namespace diffuse_tests {
+
+using pbf::ParticleFrame;
+
+// The frames of a scene as `pbf run` writes them (id order).
+std::vector<ParticleFrame> simulateFrames(const std::string& json, int frames) {
+    pbf::World world(pbf::parseScene(json, "scene.json"));
+    std::vector<ParticleFrame> out;
+    for (int k = 0; k <= frames; ++k) {
+        if (k > 0) {
+            EXPECT_TRUE(world.stepFrame().ok());
+        }
+        const pbf::ParticleStore& p = world.particles();
+        ParticleFrame f;
+        for (const std::uint32_t i : p.orderById()) {
+            f.position.push_back(p.position.get(i));
+            f.velocity.push_back(p.velocity.get(i));
+            f.density.push_back(p.density[i]);
+            f.id.push_back(p.id[i]);
+        }
+        out.push_back(std::move(f));
+    }
+    return out;
+}
+
+// A coarse dam break (r = 2 cm, 2,200 particles): the wave reaches the far
+// wall (x = 1.6 m) at about 0.6 s and runs up it.
+const std::vector<ParticleFrame>& damBreak() {
+    static const std::vector<ParticleFrame> frames = simulateFrames(R"({
+      "domain": {"min": [0, 0, 0], "max": [1.6, 1.0, 0.4]},
+      "particle_radius": 0.02,
+      "fluid": {"viscosity": 0.01},
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.5, 0.7, 0.4]}],
+      "output": {"fps": 30}})",
+                                                                    30);
+    return frames;
+}
+
+DiffuseParams diffuseParams(float radius) {
+    DiffuseParams p;
+    p.particleRadius = radius;
+    return p;
+}
+
+TEST(Diffuse, RestingTankMakesNoWhiteWater) {
+    const std::vector<ParticleFrame> frames = simulateFrames(R"({
+      "domain": {"min": [0, 0, 0], "max": [0.3, 0.4, 0.3]},
+      "particle_radius": 0.01,
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.3, 0.12, 0.3]}],
+      "output": {"fps": 30}})",
+                                                             30);
+    DiffuseSimulator sim(diffuseParams(0.01f));
+    std::size_t most = 0;
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+        sim.advance(int(k - 1), frames[k - 1], frames[k], 1.0 / 30.0);
+        most = std::max(most, sim.particles().size());
+    }
+    EXPECT_EQ(most, 0u) << "diffuse particles in water at rest";
+}
+
+// Many diffuse particles where the wave hits the far wall, of all kinds,
+// and the same bits for any thread count.
+TEST(Diffuse, DamBreakImpactMakesSprayAndFoamAtTheFarWall) {
+    const std::vector<ParticleFrame>& frames = damBreak();
+    const auto runWith = [&](int threads) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                        std::size_t(threads));
+        DiffuseSimulator sim(diffuseParams(0.02f));
+        std::size_t before = 0, atImpact = 0, nearWall = 0, spray = 0, foam = 0;
+        for (std::size_t k = 1; k < frames.size(); ++k) {
+            sim.advance(int(k - 1), frames[k - 1], frames[k], 1.0 / 30.0);
+            const DiffuseParticles& d = sim.particles();
+            if (k == 12) before = d.size();  // 0.4 s: the wave is still running
+            if (k >= 20 && d.size() > atImpact) {
+                atImpact = d.size();
+                nearWall = std::size_t(std::count_if(d.position.begin(), d.position.end(),
+                                                     [](Vec3 q) { return q.x > 1.2f; }));
+                spray = d.count(DiffuseType::spray);
+                foam = d.count(DiffuseType::foam);
+            }
+        }
+        std::printf(
+            "dam break (%d threads): %zu diffuse at 0.4 s, up to %zu after the impact "
+            "(%zu beyond x = 1.2 m; spray %zu, foam %zu)\n",
+            threads, before, atImpact, nearWall, spray, foam);
+        EXPECT_GT(atImpact, 200u);
+        EXPECT_GT(atImpact, 2 * before);
+        EXPECT_GT(nearWall, atImpact / 2);
+        EXPECT_GT(spray, 0u);
+        EXPECT_GT(foam, 0u);
+        return sim.particles();
+    };
+    const DiffuseParticles one = runWith(1), two = runWith(2);
+    ASSERT_EQ(one.size(), two.size());
+    EXPECT_EQ(one.id, two.id);
+    EXPECT_EQ(one.type, two.type);
+    EXPECT_EQ(0, std::memcmp(one.position.data(), two.position.data(), one.size() * sizeof(Vec3)));
+    EXPECT_EQ(0, std::memcmp(one.velocity.data(), two.velocity.data(), one.size() * sizeof(Vec3)));
+}
+
+TEST(Diffuse, FilesHoldEveryParticleWithItsType) {
+    const fs::path dir = freshDirectory("diffuse");
+    DiffuseParticles d;
+    d.position = {{1, 2, 3}, {4, 5, 6}};
+    d.velocity = {{0.5f, 0, 0}, {0, -1, 0}};
+    d.type = {DiffuseType::spray, DiffuseType::bubble};
+    d.lifetime = {1.5f, 2.5f};
+    d.id = {7, 9};
+    writeDiffusePly(dir / "diffuse_00001.ply", d);
+    std::ifstream in(dir / "diffuse_00001.ply", std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t body = text.find("end_header\n") + 11;
+    EXPECT_NE(text.find("element vertex 2\n"), std::string::npos);
+    EXPECT_NE(text.find("property uchar type\n"), std::string::npos);
+    // 6 floats, the type byte, the lifetime, the id per particle.
+    ASSERT_EQ(text.size() - body, 2u * (24 + 1 + 4 + 4));
+    float y = 0.0f;
+    std::memcpy(&y, text.data() + body + 33 + 4, 4);
+    EXPECT_EQ(y, 5.0f);
+    EXPECT_EQ(std::uint8_t(text[body + 33 + 24]), 2u);  // the second one is a bubble
+    writeDiffuseVdb(dir / "diffuse_00001.vdb", d);
+    EXPECT_GT(fs::file_size(dir / "diffuse_00001.vdb"), 0u);
+    DiffuseParams bad = diffuseParams(0.01f);
+    bad.substeps = 0;
+    EXPECT_NE(validate(bad).find("substeps"), std::string::npos);
+    EXPECT_THROW(DiffuseSimulator{bad}, std::invalid_argument);
+    fs::remove_all(dir);
+}
+
+}  // namespace diffuse_tests
