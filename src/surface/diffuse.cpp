@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -313,6 +315,60 @@ void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& 
             out.write(reinterpret_cast<const char*>(&d.id[k]), 4);
         }
     });
+}
+
+DiffuseParticles readDiffusePly(const std::filesystem::path& path) {
+    const auto fail = [&](const std::string& what) {
+        throw IoError(path.string() + ": " + what);
+    };
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open");
+    // The header writeDiffusePly writes, line by line (comments skipped).
+    const std::vector<std::string> expected = {
+        "ply", "format binary_little_endian 1.0", "element vertex", "property float x",
+        "property float y", "property float z", "property float vx", "property float vy",
+        "property float vz", "property uchar type", "property float lifetime",
+        "property uint id", "end_header"};
+    std::size_t count = 0;
+    std::string line;
+    for (std::size_t k = 0; k < expected.size();) {
+        if (!std::getline(in, line)) fail("truncated PLY header");
+        if (line.starts_with("comment")) continue;
+        if (expected[k] == "element vertex") {
+            const std::string prefix = "element vertex ";
+            if (!line.starts_with(prefix)) fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "')");
+            count = std::stoul(line.substr(prefix.size()));
+        } else if (line != expected[k]) {
+            fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "', got '" + line + "')");
+        }
+        ++k;
+    }
+    constexpr std::size_t kRecord = 6 * 4 + 1 + 4 + 4;
+    const auto headerEnd = in.tellg();
+    in.seekg(0, std::ios::end);
+    const auto bytes = static_cast<std::size_t>(in.tellg() - headerEnd);
+    in.seekg(headerEnd);
+    if (count > bytes / kRecord) fail("file is shorter than its vertex count says");
+    DiffuseParticles d;
+    d.position.resize(count);
+    d.velocity.resize(count);
+    d.type.resize(count);
+    d.lifetime.resize(count);
+    d.id.resize(count);
+    std::vector<char> record(kRecord);
+    for (std::size_t k = 0; k < count; ++k) {
+        if (!in.read(record.data(), std::streamsize(kRecord))) fail("truncated vertex data");
+        float f[6];
+        std::memcpy(f, record.data(), sizeof f);
+        d.position[k] = {f[0], f[1], f[2]};
+        d.velocity[k] = {f[3], f[4], f[5]};
+        const auto type = static_cast<std::uint8_t>(record[24]);
+        if (type > 2) fail("diffuse particle " + std::to_string(k) + " has unknown type " + std::to_string(type));
+        d.type[k] = DiffuseType(type);
+        std::memcpy(&d.lifetime[k], record.data() + 25, 4);
+        std::memcpy(&d.id[k], record.data() + 29, 4);
+    }
+    return d;
 }
 
 void writeDiffuseVdb(const std::filesystem::path& path, const DiffuseParticles& d) {

@@ -97,6 +97,9 @@ class DiffuseSimulator {
 // type (uchar: 0 spray, 1 foam, 2 bubble), lifetime (float), id (uint).
 // Atomic. Throws IoError.
 void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& particles);
+// Reads a file written by writeDiffusePly (that exact layout). Throws IoError
+// naming the file for anything else, a truncated file or an unknown type.
+DiffuseParticles readDiffusePly(const std::filesystem::path& path);
 // OpenVDB points (grid "diffuse"): P, v, type (int32), lifetime, id. Atomic.
 void writeDiffuseVdb(const std::filesystem::path& path, const DiffuseParticles& particles);
 
