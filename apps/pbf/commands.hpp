@@ -10,6 +10,7 @@ namespace pbf::cli {
 // Registers the subcommand and returns the function that runs it after parsing.
 std::function<int()> addRunCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
+std::function<int()> addFoamCommand(CLI::App& app);
 #ifdef PBF_HAVE_RENDER
 std::function<int()> addViewCommand(CLI::App& app);
 std::function<int()> addRenderCommand(CLI::App& app);

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
     const auto render = pbf::cli::addRenderCommand(app);
 #endif
     const auto mesh = pbf::cli::addMeshCommand(app);
+    const auto foam = pbf::cli::addFoamCommand(app);
     const auto plot = pbf::cli::addPlotCommand(app);
     const auto validate = pbf::cli::addValidateCommand(app);
     try {
@@ -70,6 +71,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("render")) return runCommand(render);
 #endif
     if (app.got_subcommand("mesh")) return runCommand(mesh);
+    if (app.got_subcommand("foam")) return runCommand(foam);
     if (app.got_subcommand("plot")) return runCommand(plot);
     if (app.got_subcommand("validate")) return runCommand(validate);
     return 2;

@@ -36,7 +36,33 @@ void addMeshOptions(CLI::App& command, surface::MeshJob& job, std::string& forma
                     "Radius of the rasterised spheres in particle radii before eroding back to 1 r "
                     "(closes gaps)")
         ->capture_default_str();
-    command.add_option("--smooth", p.smoothing, "Mean-curvature smoothing iterations")
+    command
+        .add_option_function<std::string>(
+            "--method",
+            [&p](const std::string& text) { p.method = surface::parseSurfaceMethod(text); },
+            "Surface method: anisotropic (Yu & Turk 2013 ellipsoid kernels: flat water, thin "
+            "sheets) or isotropic (union of spheres, closed and smoothed)")
+        ->default_str("anisotropic");
+    // --smooth sets the iterations of the method in use (their defaults
+    // differ: the anisotropic field is smooth already).
+    command.add_option_function<int>(
+        "--smooth", [&p](int n) { p.smoothing = p.anisotropicSmoothing = n; },
+        "Mean-curvature smoothing iterations (default: 1 anisotropic, 6 isotropic)");
+    command
+        .add_option("--kernel-radius", p.kernelRadius,
+                    "(anisotropic) isotropic kernel radius h in particle radii")
+        ->capture_default_str();
+    command
+        .add_option("--neighbor-radius", p.neighborRadius,
+                    "(anisotropic) neighbourhood radius of the covariance in particle radii")
+        ->capture_default_str();
+    command
+        .add_option("--centre-smoothing", p.centreSmoothing,
+                    "(anisotropic) lambda of Yu & Turk's smoothed centres, 0 to 1")
+        ->capture_default_str();
+    command
+        .add_option("--max-anisotropy", p.maxAnisotropy,
+                    "(anisotropic) k_r: largest ratio of a kernel's longest to shortest axis")
         ->capture_default_str();
     command
         .add_option(
@@ -79,10 +105,11 @@ int runMeshJob(const surface::MeshJob& job, bool quiet) {
     progress.finish();
     fmt::print(
         "pbf mesh: {} frames, {} particles (radius {:.5g} m from {}), {} triangles, {:.1f} MB "
-        "written in {:.1f} s, {:.0f} particles/s meshed -> {}\n",
+        "written in {:.1f} s, {:.0f} particles/s meshed ({}) -> {}\n",
         s.frames, s.particles, s.particleRadius, s.radiusSource, s.triangles,
         double(s.bytesWritten) * 1e-6, s.seconds,
-        s.meshSeconds > 0 ? double(s.particles) / s.meshSeconds : 0.0, output.string());
+        s.meshSeconds > 0 ? double(s.particles) / s.meshSeconds : 0.0,
+        surface::toString(job.params.method), output.string());
     return 0;
 }
 

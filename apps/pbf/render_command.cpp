@@ -25,6 +25,7 @@
 #include "pbf/render/video.hpp"
 #include "pbf/run.hpp"
 #include "pbf/scene.hpp"
+#include "pbf/surface/diffuse.hpp"
 #include "pbf/threading.hpp"
 #include "pbf/world.hpp"
 
@@ -114,6 +115,19 @@ std::vector<std::vector<Pose>> readBodyPoses(const fs::path& file) {
                               {float(v[6]), float(v[7]), float(v[8]), float(v[9])}};
     }
     return poses;
+}
+
+// White water of a PLY frame: pbf foam's diffuse_NNNNN.ply beside
+// frame_NNNNN.ply (same number), packed for the renderer; none without it.
+render::RenderParticles diffuseFor(const fs::path& frameFile) {
+    const fs::path file =
+        frameFile.parent_path() /
+        ("diffuse_" + frameFile.filename().string().substr(std::string("frame_").size()));
+    if (!fs::exists(file)) return {};
+    const surface::DiffuseParticles d = surface::readDiffusePly(file);
+    std::vector<std::uint8_t> types(d.size());
+    for (std::size_t k = 0; k < d.size(); ++k) types[k] = std::uint8_t(d.type[k]);
+    return render::packDiffuse(d.position, types);
 }
 
 Aabb boundingBox(const ParticleFrame& frame) {
@@ -214,9 +228,14 @@ int runRender(const RenderArguments& args) {
                    writer.rendererName(), out.string());
 
     ProgressBar progress("rendering", total, !args.quiet);
-    const auto renderFrame = [&](int frame, const render::RenderParticles& particles) {
-        writer.write(frame, particles);
-        progress.update(frame + 1, fmt::format("{} particles", particles.count()));
+    const auto renderFrame = [&](int frame, const render::RenderParticles& particles,
+                                 const render::RenderParticles& diffuse) {
+        writer.write(frame, particles, diffuse);
+        progress.update(frame + 1,
+                        diffuse.count() > 0
+                            ? fmt::format("{} particles, {} white water", particles.count(),
+                                          diffuse.count())
+                            : fmt::format("{} particles", particles.count()));
     };
     int status = 0;
     double simulateSeconds = 0.0;
@@ -237,7 +256,7 @@ int runRender(const RenderArguments& args) {
             // Rigid bodies move: the solids are drawn at this frame's poses.
             if (!bodyShapes.empty())
                 writer.setSolids(render::posedSolids(statics, bodyShapes, world));
-            renderFrame(frame, render::packParticles(world.particles(), images.look.color));
+            renderFrame(frame, render::packParticles(world.particles(), images.look.color), {});
         };
         const auto t0 = Clock::now();
         const RunSummary summary = runScene(run, options);
@@ -267,7 +286,6 @@ int runRender(const RenderArguments& args) {
             const auto t0 = Clock::now();
             const ParticleFrame ply =
                 frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]);
-            simulateSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
             if (std::size_t(frame) < bodyPoses.size()) {
                 render::SolidMesh posed = statics;
                 const std::vector<Pose>& poses = bodyPoses[std::size_t(frame)];
@@ -279,7 +297,9 @@ int runRender(const RenderArguments& args) {
                 }
                 writer.setSolids(posed);
             }
-            renderFrame(frame, render::packParticles(ply, images.look.color));
+            const render::RenderParticles diffuse = diffuseFor(plyFiles[std::size_t(frame)]);
+            simulateSeconds += std::chrono::duration<double>(Clock::now() - t0).count();
+            renderFrame(frame, render::packParticles(ply, images.look.color), diffuse);
         }
     }
     progress.finish();
@@ -322,7 +342,8 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Scene to simulate and render (JSON, see docs/scenes.md); with --ply "
                     "only its domain, particle radius, solids and colour range are used");
     cmd->add_option("--ply", args->plyDirectory,
-                    "Render the frame_NNNNN.ply files of this directory instead");
+                    "Render the frame_NNNNN.ply files of this directory instead (with the "
+                    "white water of pbf foam's diffuse_NNNNN.ply where present)");
     cmd->add_option("-o,--out", args->out, "Output directory (default: out/<name>_<style>)");
     cmd->add_option("-f,--frames", args->frames,
                     "Scene: frames to simulate after the initial one (default: output.frames); "

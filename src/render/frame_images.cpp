@@ -56,9 +56,15 @@ FrameImages::FrameImages(const ImageSettings& settings, const Aabb& domain, floa
 FrameImages::~FrameImages() = default;
 
 void FrameImages::write(int frame, const RenderParticles& particles) {
+    write(frame, particles, RenderParticles{});
+}
+
+void FrameImages::write(int frame, const RenderParticles& particles,
+                        const RenderParticles& diffuse) {
     const auto start = std::chrono::steady_clock::now();
     const unsigned framebuffer = impl_->target.framebuffer();
     impl_->renderer.upload(particles);
+    impl_->renderer.uploadDiffuse(diffuse);
     impl_->renderer.render(framebuffer, settings_.width, settings_.height, settings_.camera,
                            settings_.look);
     if (impl_->colorBar)

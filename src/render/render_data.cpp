@@ -81,6 +81,20 @@ RenderParticles packParticles(const ParticleFrame& frame, ColorMode mode) {
     return out;
 }
 
+RenderParticles packDiffuse(std::span<const Vec3> positions, std::span<const std::uint8_t> types) {
+    if (positions.size() != types.size())
+        throw std::invalid_argument("packDiffuse: positions and types differ in length");
+    RenderParticles out;
+    out.data.resize(4 * positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        out.data[4 * i + 0] = positions[i].x;
+        out.data[4 * i + 1] = positions[i].y;
+        out.data[4 * i + 2] = positions[i].z;
+        out.data[4 * i + 3] = float(types[i]);
+    }
+    return out;
+}
+
 std::array<float, 3> colorMap(float t) {
     // Keep in step with shaders::kColorMap.
     constexpr float stops[4][3] = {

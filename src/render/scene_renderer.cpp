@@ -12,6 +12,7 @@
 #include "gl_util.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/render/solid_mesh.hpp"
+#include "pbf/surface/anisotropic.hpp"
 #include "shaders.hpp"
 
 namespace pbf::render {
@@ -61,6 +62,50 @@ View makeView(const Camera& camera, const Aabb& domain, int width, int height) {
 
 // Depth-splat sphere radius of the liquid look, in particle radii.
 constexpr float kLiquidRadiusScale = 1.8f;
+// Anisotropic splats: a particle with too few neighbours for a covariance
+// (spray, a stream one particle wide) is a sphere of this many radii, so that
+// neighbours 2 r apart along a stream overlap into one line of water.
+constexpr float kIsolatedSplatScale = 1.2f;
+// White water spheres, in particle radii.
+constexpr float kDiffuseRadiusScale = 0.45f;
+
+// Per particle 16 floats for the ellipsoid depth splats: the smoothed centre
+// and the bounding radius, then the rows of G (each padded to 4 floats). The
+// Yu & Turk kernels (radius h inside the water) are scaled so that a particle
+// inside the water gets the sphere splat of kLiquidRadiusScale radii.
+std::vector<float> splatEllipsoids(const std::vector<float>& packed, float radius) {
+    const std::size_t n = packed.size() / 4;
+    std::vector<Vec3> positions(n);
+    for (std::size_t i = 0; i < n; ++i)
+        positions[i] = {packed[4 * i], packed[4 * i + 1], packed[4 * i + 2]};
+    surface::SurfaceParams params;
+    params.particleRadius = radius;
+    const std::vector<surface::Ellipsoid> kernels = surface::computeEllipsoids(positions, params);
+    const float scale = kLiquidRadiusScale / params.kernelRadius;
+    std::vector<float> out(16 * n, 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+        const surface::Ellipsoid& e = kernels[i];
+        float* o = &out[16 * i];
+        o[0] = e.centre.x;
+        o[1] = e.centre.y;
+        o[2] = e.centre.z;
+        if (e.neighbors <= params.anisotropyMinNeighbors) {
+            // Sphere of kIsolatedSplatScale radii about the particle itself.
+            const float a = kIsolatedSplatScale * radius;
+            o[0] = positions[i].x;
+            o[1] = positions[i].y;
+            o[2] = positions[i].z;
+            o[3] = a;
+            for (int row = 0; row < 3; ++row) o[4 + 4 * row + row] = 1.0f / a;
+            continue;
+        }
+        o[3] = scale * length(e.axes[0]);
+        for (int row = 0; row < 3; ++row)
+            for (int col = 0; col < 3; ++col)
+                o[4 + 4 * row + col] = e.g[std::size_t(3 * row + col)] / scale;
+    }
+    return out;
+}
 
 }  // namespace
 
@@ -70,6 +115,10 @@ struct SceneRenderer::Impl {
         fragment({shaders::kColorMap, shaders::kSphereHit, shaders::kSphereShadeMain})};
     gl::Program sphereDepth{"liquid depth", shaders::kSphereVertex,
                             fragment({shaders::kSphereHit, shaders::kSphereDepthMain})};
+    gl::Program ellipsoidDepth{"liquid ellipsoid depth", shaders::kEllipsoidVertex,
+                               shaders::kEllipsoidDepthFragment};
+    gl::Program diffuseShade{"white water", shaders::kSphereVertex,
+                             fragment({shaders::kSphereHit, shaders::kDiffuseMain})};
     gl::Program sphereThickness{"liquid thickness", shaders::kSphereVertex,
                                 shaders::kThicknessFragment};
     gl::Program skyProgram{"sky", shaders::kFullscreenVertex,
@@ -83,6 +132,13 @@ struct SceneRenderer::Impl {
                           fragment({shaders::kSky, shaders::kCompositeMain})};
 
     GLuint particleVao = 0, particleVbo = 0;
+    GLuint ellipsoidVao = 0, ellipsoidVbo = 0;
+    GLuint diffuseVao = 0, diffuseVbo = 0;
+    std::size_t diffuseCount = 0;
+    // The uploaded particles, kept for the ellipsoids (computed when the
+    // liquid look first needs them after an upload).
+    std::vector<float> packed;
+    bool ellipsoidsCurrent = false;
     GLuint emptyVao = 0;
     GLuint boxVao = 0, boxVbo = 0;
     GLuint floorVao = 0, floorVbo = 0;
@@ -105,6 +161,23 @@ struct SceneRenderer::Impl {
         glEnableVertexAttribArray(0);
         glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
         glVertexAttribDivisor(0, 1);  // one particle per instance
+        glGenVertexArrays(1, &diffuseVao);
+        glGenBuffers(1, &diffuseVbo);
+        glBindVertexArray(diffuseVao);
+        glBindBuffer(GL_ARRAY_BUFFER, diffuseVbo);
+        glEnableVertexAttribArray(0);
+        glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+        glVertexAttribDivisor(0, 1);
+        glGenVertexArrays(1, &ellipsoidVao);
+        glGenBuffers(1, &ellipsoidVbo);
+        glBindVertexArray(ellipsoidVao);
+        glBindBuffer(GL_ARRAY_BUFFER, ellipsoidVbo);
+        for (GLuint k = 0; k < 4; ++k) {
+            glEnableVertexAttribArray(k);
+            glVertexAttribPointer(k, k == 0 ? 4 : 3, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
+                                  reinterpret_cast<const void*>(std::size_t(4 * k) * sizeof(float)));
+            glVertexAttribDivisor(k, 1);
+        }
         glGenVertexArrays(1, &emptyVao);
         glGenVertexArrays(1, &boxVao);
         glGenBuffers(1, &boxVbo);
@@ -132,6 +205,10 @@ struct SceneRenderer::Impl {
 
     ~Impl() {
         glDeleteBuffers(1, &particleVbo);
+        glDeleteBuffers(1, &ellipsoidVbo);
+        glDeleteBuffers(1, &diffuseVbo);
+        glDeleteVertexArrays(1, &ellipsoidVao);
+        glDeleteVertexArrays(1, &diffuseVao);
         glDeleteBuffers(1, &boxVbo);
         glDeleteBuffers(1, &floorVbo);
         glDeleteBuffers(1, &solidVbo);
@@ -244,6 +321,39 @@ struct SceneRenderer::Impl {
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(count));  // the one draw call
     }
 
+    // Depth splats as ellipsoids (one instanced draw call).
+    void drawEllipsoidDepth(const View& v) {
+        if (count == 0) return;
+        if (!ellipsoidsCurrent) {
+            const std::vector<float> e = splatEllipsoids(packed, radius);
+            glBindBuffer(GL_ARRAY_BUFFER, ellipsoidVbo);
+            glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(e.size() * sizeof(float)), e.data(),
+                         GL_STREAM_DRAW);
+            glBindBuffer(GL_ARRAY_BUFFER, 0);
+            ellipsoidsCurrent = true;
+        }
+        ellipsoidDepth.use();
+        glUniformMatrix4fv(ellipsoidDepth.uniform("uView"), 1, GL_FALSE, glm::value_ptr(v.view));
+        glUniformMatrix4fv(ellipsoidDepth.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
+        glBindVertexArray(ellipsoidVao);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(count));
+    }
+
+    // White water over whatever is in the bound framebuffer's depth buffer;
+    // `depthBias` metres towards the camera (see shaders::kDiffuseMain).
+    void drawDiffuse(const View& v, float depthBias) {
+        if (diffuseCount == 0) return;
+        diffuseShade.use();
+        glUniformMatrix4fv(diffuseShade.uniform("uView"), 1, GL_FALSE, glm::value_ptr(v.view));
+        glUniformMatrix4fv(diffuseShade.uniform("uProj"), 1, GL_FALSE, glm::value_ptr(v.proj));
+        glUniform1f(diffuseShade.uniform("uRadius"), radius * kDiffuseRadiusScale);
+        glUniform1f(diffuseShade.uniform("uQuadScale"), 1.5f);
+        glUniform3fv(diffuseShade.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
+        glUniform1f(diffuseShade.uniform("uDepthBias"), depthBias);
+        glBindVertexArray(diffuseVao);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(diffuseCount));
+    }
+
     void renderSpheres(GLuint target, const View& v, const RenderSettings& s) {
         glBindFramebuffer(GL_FRAMEBUFFER, target);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -255,6 +365,7 @@ struct SceneRenderer::Impl {
         glUniform3fv(sphereShade.uniform("uFlatColor"), 1, s.flatColor.data());
         glUniform3fv(sphereShade.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
         drawParticles(sphereShade, v);
+        if (s.drawDiffuse) drawDiffuse(v, 0.0f);
         if (s.drawBox) drawBox(v);
     }
 
@@ -276,9 +387,12 @@ struct SceneRenderer::Impl {
         glBindFramebuffer(GL_FRAMEBUFFER, depthFboA.id());
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
-        // Spheres larger than the particles (as in FleX's renderer) close the
-        // gaps of a disordered surface before smoothing.
-        drawParticles(sphereDepth, v, 1.5f, kLiquidRadiusScale);
+        // Ellipsoids (or spheres) larger than the particles (as in FleX's
+        // renderer) close the gaps of a disordered surface before smoothing.
+        if (s.anisotropic)
+            drawEllipsoidDepth(v);
+        else
+            drawParticles(sphereDepth, v, 1.5f, kLiquidRadiusScale);
 
         // 2. Thickness: all spheres in front of the background added up
         // (depth test against the background, no depth writes).
@@ -339,6 +453,9 @@ struct SceneRenderer::Impl {
         glBindVertexArray(emptyVao);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glDepthFunc(GL_LESS);
+        // White water over the smoothed surface: foam on it and bubbles
+        // within two splat radii under it are seen.
+        if (s.drawDiffuse) drawDiffuse(v, 2.0f * kLiquidRadiusScale * radius);
         if (s.drawBox) drawBox(v);
         glActiveTexture(GL_TEXTURE0);
     }
@@ -352,6 +469,7 @@ void SceneRenderer::setDomain(const Aabb& domain) {
 }
 void SceneRenderer::setParticleRadius(float radius) {
     impl_->radius = radius;
+    impl_->ellipsoidsCurrent = false;
 }
 void SceneRenderer::setSolids(const SolidMesh& mesh) {
     glBindBuffer(GL_ARRAY_BUFFER, impl_->solidVbo);
@@ -365,12 +483,26 @@ std::size_t SceneRenderer::particleCount() const {
     return impl_->count;
 }
 
+std::size_t SceneRenderer::diffuseCount() const {
+    return impl_->diffuseCount;
+}
+
+void SceneRenderer::uploadDiffuse(const RenderParticles& diffuse) {
+    glBindBuffer(GL_ARRAY_BUFFER, impl_->diffuseVbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(diffuse.data.size() * sizeof(float)),
+                 diffuse.data.data(), GL_STREAM_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    impl_->diffuseCount = diffuse.count();
+}
+
 void SceneRenderer::upload(const RenderParticles& particles) {
     glBindBuffer(GL_ARRAY_BUFFER, impl_->particleVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)),
                  particles.data.data(), GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
     impl_->count = particles.count();
+    impl_->packed = particles.data;
+    impl_->ellipsoidsCurrent = false;
 }
 
 void SceneRenderer::render(unsigned framebuffer, int width, int height, const Camera& camera,

@@ -110,6 +110,75 @@ void main() {
 }
 )";
 
+// Liquid pass 1 with anisotropic kernels: each particle's depth splat is
+// its Yu & Turk 2013 ellipsoid (surface::computeEllipsoids, scaled to the
+// splat size): flat discs along a free surface, long along a thin stream,
+// spheres inside the water. One camera-facing quad per instance covering the
+// ellipsoid's bounding sphere; the fragment intersects the view ray with the
+// ellipsoid in its unit-sphere coordinates u = G (x - centre).
+inline constexpr const char* kEllipsoidVertex = R"(#version 330 core
+layout(location = 0) in vec4 aCentre;  // smoothed centre x, y, z; bounding radius
+layout(location = 1) in vec3 aG0;      // rows of G (world -> unit sphere), 1/m
+layout(location = 2) in vec3 aG1;
+layout(location = 3) in vec3 aG2;
+uniform mat4 uView;
+uniform mat4 uProj;
+out vec3 vViewPos;
+flat out vec3 vCenter;
+flat out mat3 vG;  // G in view space
+void main() {
+    vec2 corner = vec2((gl_VertexID & 1) == 0 ? -1.0 : 1.0, (gl_VertexID & 2) == 0 ? -1.0 : 1.0);
+    vec4 center = uView * vec4(aCentre.xyz, 1.0);
+    vCenter = center.xyz;
+    // GLSL matrices are built from columns: mat3(rows) is G transposed.
+    vG = transpose(mat3(aG0, aG1, aG2)) * transpose(mat3(uView));
+    vViewPos = center.xyz + vec3(corner * aCentre.w * 1.5, 0.0);
+    gl_Position = uProj * vec4(vViewPos, 1.0);
+}
+)";
+
+inline constexpr const char* kEllipsoidDepthFragment = R"(#version 330 core
+uniform mat4 uProj;
+in vec3 vViewPos;
+flat in vec3 vCenter;
+flat in mat3 vG;
+out float outDepth;
+void main() {
+    vec3 d = normalize(vViewPos);
+    vec3 o = vG * (-vCenter);  // the camera, in the ellipsoid's unit-sphere coordinates
+    vec3 e = vG * d;
+    float a = dot(e, e);
+    float b = dot(o, e);
+    float disc = b * b - a * (dot(o, o) - 1.0);
+    if (disc <= 0.0) discard;
+    float t = (-b - sqrt(disc)) / a;
+    if (t <= 0.0) discard;
+    vec3 p = d * t;
+    outDepth = -p.z;
+    vec4 clip = uProj * vec4(p, 1.0);
+    gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
+}
+)";
+
+// White water (pbf foam's diffuse particles): small lit spheres, spray and
+// foam white, bubbles a light blue-white. uDepthBias (m) moves their depth
+// towards the camera, so in the liquid look foam on the smoothed surface and
+// bubbles just under it are seen, and bubbles deep inside are not.
+inline constexpr const char* kDiffuseMain = R"(
+uniform vec3 uLightView;
+uniform float uDepthBias;
+out vec4 outColor;
+void main() {
+    vec3 p, n; float chord;
+    if (!hitSphere(p, n, chord)) discard;
+    int type = int(vValue + 0.5);
+    vec3 base = type == 2 ? vec3(0.78, 0.88, 0.96) : (type == 1 ? vec3(0.94, 0.96, 0.98) : vec3(1.0));
+    float diffuse = max(dot(n, uLightView), 0.0);
+    outColor = vec4(base * (0.72 + 0.28 * diffuse), 1.0);
+    gl_FragDepth = windowDepth(p * max(0.0, 1.0 - uDepthBias / max(-p.z, 1e-6)));
+}
+)";
+
 // Liquid pass 2: thickness, added up over all particles (additive blending,
 // no depth test). Each particle is a Gaussian splat of standard deviation
 // 1.5 r in the view plane whose integral is the particle's volume (2r)^3, so
@@ -225,14 +294,24 @@ void main() { outColor = vec4(uColor, 1.0); }
 // range around this pixel's depth, so sheets of water stay apart and lone
 // drops in front do not pull the surface. Background texels (depth 0) are
 // never mixed in, so the silhouette does not spread.
+//
+// The range test and the average are taken about the local depth *slope*
+// along the pass, not about a constant depth: water seen at a grazing angle
+// changes depth by more than the range from one pixel to the next, so a
+// filter about a constant leaves such pixels unsmoothed in one direction and
+// smoothed in the other, and the separable passes draw streaks and bands. A
+// tilted plane is unchanged by this filter and the particles' bumps on it are
+// smoothed as on a plane facing the camera.
 inline constexpr const char* kSmoothingMain = R"(
 uniform sampler2D uDepth;
 uniform ivec2 uStep;            // (1, 0) horizontal pass, (0, 1) vertical pass
 uniform float uPixelsPerMetre;  // at depth 1 m
 uniform float uRadius;
 out float outDepth;
+float fetchDepth(ivec2 q) {
+    return texelFetch(uDepth, clamp(q, ivec2(0), textureSize(uDepth, 0) - 1), 0).r;
+}
 void main() {
-    ivec2 size = textureSize(uDepth, 0);
     ivec2 pix = ivec2(gl_FragCoord.xy);
     float z = texelFetch(uDepth, pix, 0).r;
     if (z <= 0.0) { outDepth = 0.0; return; }
@@ -240,20 +319,35 @@ void main() {
     float sigma = 0.5 * radiusPx;
     float range = 2.0 * uRadius;
     int n = int(ceil(radiusPx));
+    // Depth slope per pixel along the pass: central difference half the
+    // filter wide when both sides are the same smooth surface, else the
+    // flatter one-sided difference (the other side is background or another
+    // sheet of water).
+    int k = max(1, n / 2);
+    float za = fetchDepth(pix + k * uStep);
+    float zb = fetchDepth(pix - k * uStep);
+    float slope = 0.0;
+    if (za > 0.0 && zb > 0.0 && abs((za - z) - (z - zb)) < 2.0 * range)
+        slope = (za - zb) / float(2 * k);
+    else if (za > 0.0 && (zb <= 0.0 || abs(za - z) < abs(z - zb)))
+        slope = (za - z) / float(k);
+    else if (zb > 0.0)
+        slope = (z - zb) / float(k);
     float sum = 0.0;
     float weights = 0.0;
     for (int i = -n; i <= n; ++i) {
-        ivec2 q = clamp(pix + i * uStep, ivec2(0), size - 1);
-        float s = texelFetch(uDepth, q, 0).r;
-        // Narrow range: another surface far behind is left out; samples far
-        // in front are clamped to the range instead of dominating.
-        if (s <= 0.0 || s > z + range) continue;
-        s = max(s, z - range);
+        float s = fetchDepth(pix + i * uStep);
+        if (s <= 0.0) continue;
+        // Narrow range about the local plane: another surface far behind is
+        // left out; samples far in front are clamped to the range.
+        float r = s - (z + slope * float(i));
+        if (r > range) continue;
+        r = max(r, -range);
         float w = exp(-float(i * i) / (2.0 * sigma * sigma));
-        sum += s * w;
+        sum += r * w;
         weights += w;
     }
-    outDepth = sum / weights;
+    outDepth = z + sum / weights;
 }
 )";
 

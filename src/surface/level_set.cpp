@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "anisotropic_grid.hpp"
 #include "openvdb_particles.hpp"
 #include "pbf/io.hpp"
 #include "pbf/surface/surface.hpp"
@@ -105,10 +106,46 @@ void requireValid(const SurfaceParams& params) {
 
 }  // namespace
 
+const char* toString(SurfaceMethod method) {
+    return method == SurfaceMethod::isotropic ? "isotropic" : "anisotropic";
+}
+
+SurfaceMethod parseSurfaceMethod(std::string_view text) {
+    if (text == "isotropic") return SurfaceMethod::isotropic;
+    if (text == "anisotropic") return SurfaceMethod::anisotropic;
+    throw std::invalid_argument("method: must be isotropic or anisotropic, got '" +
+                                std::string(text) + "'");
+}
+
 std::string validate(const SurfaceParams& p) {
     if (!(p.particleRadius > 0.0f && std::isfinite(p.particleRadius)))
         return "radius: the particle radius must be positive, got " +
                std::to_string(p.particleRadius);
+    const auto inRange = [](float v, float lo, float hi) { return v >= lo && v <= hi; };
+    if (!inRange(p.kernelRadius, 2.0f, 8.0f))
+        return "kernel-radius: must be in [2, 8] particle radii, got " +
+               std::to_string(p.kernelRadius);
+    if (!inRange(p.neighborRadius, 2.0f, 12.0f))
+        return "neighbor-radius: must be in [2, 12] particle radii, got " +
+               std::to_string(p.neighborRadius);
+    if (!inRange(p.centreSmoothing, 0.0f, 1.0f))
+        return "centre-smoothing: must be in [0, 1], got " + std::to_string(p.centreSmoothing);
+    if (!inRange(p.maxAnisotropy, 1.0f, 16.0f))
+        return "max-anisotropy: must be in [1, 16], got " + std::to_string(p.maxAnisotropy);
+    if (!inRange(p.isolatedScale, 0.25f, 1.0f))
+        return "isolated-scale: must be in [0.25, 1], got " + std::to_string(p.isolatedScale);
+    if (p.anisotropyMinNeighbors < 1 || p.anisotropyMinNeighbors > 200)
+        return "anisotropy-neighbors: must be in [1, 200], got " +
+               std::to_string(p.anisotropyMinNeighbors);
+    if (p.anisotropicSmoothing < 0 || p.anisotropicSmoothing > 100)
+        return "smooth: must be in [0, 100], got " + std::to_string(p.anisotropicSmoothing);
+    // The smallest kernel (k_n h across, or h / k_r across a sheet) must
+    // span a few voxels or the field aliases on the grid.
+    if (p.method == SurfaceMethod::anisotropic && p.voxelSize > 0.0f &&
+        p.kernelRadius * std::min(p.isolatedScale, 1.0f / p.maxAnisotropy) < 0.75f * p.voxelSize)
+        return "voxel-size: must be at most 4 / 3 of the smallest kernel axis (kernel-radius x "
+               "min(isolated-scale, 1 / max-anisotropy)), got " +
+               std::to_string(p.voxelSize);
     if (!(p.voxelSize > 0.0f && p.voxelSize <= 2.0f))
         return "voxel-size: must be in (0, 2] particle radii, got " + std::to_string(p.voxelSize);
     // Below sqrt(2) the spheres of a flat layer leave holes: no closing.
@@ -149,6 +186,20 @@ LevelSet buildLevelSet(std::span<const Vec3> positions, const SurfaceParams& par
     if (report) {
         report->particles = positions.size();
         report->sprayDropped = positions.size() - meshed.size();
+    }
+
+    if (params.method == SurfaceMethod::anisotropic) {
+        LevelSet result;
+        result.impl().grid = detail::anisotropicLevelSet(meshed, params, dx, 3.0f);
+        if (meshed.empty()) return result;
+        openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*result.impl().grid);
+        filter.setSpatialScheme(openvdb::math::FIRST_BIAS);
+        filter.setTemporalScheme(openvdb::math::TVD_RK1);
+        // The field is smooth already; a pass or two of mean-curvature flow
+        // takes out the voxel-scale ripples of the rebuilt distance field.
+        for (int k = 0; k < params.anisotropicSmoothing; ++k) filter.meanCurvature();
+        openvdb::tools::pruneLevelSet(result.impl().grid->tree());
+        return result;
     }
 
     // The band must hold the erosion distance plus the stencils of the

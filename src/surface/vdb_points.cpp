@@ -15,6 +15,8 @@
 #include <numeric>
 #include <vector>
 
+#include "vdb_points_detail.hpp"
+
 namespace pbf::surface {
 namespace {
 
@@ -31,7 +33,10 @@ openvdb::Vec3f toVdb(const Vec3& v) {
 
 }  // namespace
 
-void writeParticlesVdb(const std::filesystem::path& path, const ParticleFrame& frame) {
+namespace detail {
+
+void writePointsVdb(const std::filesystem::path& path, const ParticleFrame& frame,
+                    const std::string& gridName, const ExtraPointAttributes& extra) {
     openvdb::initialize();
     const std::size_t n = frame.position.size();
     if ((!frame.velocity.empty() && frame.velocity.size() != n) ||
@@ -49,6 +54,10 @@ void writeParticlesVdb(const std::filesystem::path& path, const ParticleFrame& f
             fail(path, "particle id exceeds int32");
         ids.push_back(static_cast<std::int32_t>(id));
     }
+    for (const auto& [name, values] : extra.floats)
+        if (values.size() != n) fail(path, "attribute " + name + " has the wrong length");
+    for (const auto& [name, values] : extra.ints)
+        if (values.size() != n) fail(path, "attribute " + name + " has the wrong length");
 
     const PointAttributeVector<openvdb::Vec3f> positionList(positions);
     // About 8 particles per voxel: the layout OpenVDB recommends for caches.
@@ -60,7 +69,7 @@ void writeParticlesVdb(const std::filesystem::path& path, const ParticleFrame& f
     PointDataGrid::Ptr grid =
         openvdb::points::createPointDataGrid<openvdb::points::NullCodec, PointDataGrid>(
             *index, positionList, *transform);
-    grid->setName("points");
+    grid->setName(gridName);
     auto& tree = grid->tree();
     if (!velocities.empty()) {
         openvdb::points::appendAttribute<openvdb::Vec3f>(tree, "v");
@@ -77,10 +86,26 @@ void writeParticlesVdb(const std::filesystem::path& path, const ParticleFrame& f
         openvdb::points::populateAttribute(tree, index->tree(), "id",
                                            PointAttributeVector<std::int32_t>(ids));
     }
+    for (const auto& [name, values] : extra.floats) {
+        openvdb::points::appendAttribute<float>(tree, name);
+        openvdb::points::populateAttribute(tree, index->tree(), name,
+                                           PointAttributeVector<float>(values));
+    }
+    for (const auto& [name, values] : extra.ints) {
+        openvdb::points::appendAttribute<std::int32_t>(tree, name);
+        openvdb::points::populateAttribute(tree, index->tree(), name,
+                                           PointAttributeVector<std::int32_t>(values));
+    }
     writeFileAtomically(path, [&](std::ostream& out) {
         openvdb::io::Stream stream(out);
         stream.write(openvdb::GridCPtrVec{grid});
     });
+}
+
+}  // namespace detail
+
+void writeParticlesVdb(const std::filesystem::path& path, const ParticleFrame& frame) {
+    detail::writePointsVdb(path, frame, "points", {});
 }
 
 void writeParticlesVdb(const std::filesystem::path& path, const ParticleStore& p) {

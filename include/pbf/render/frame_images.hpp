@@ -43,6 +43,8 @@ class FrameImages {
 
     // Renders `particles` into directory/frame_NNNNN.png (written whole).
     void write(int frame, const RenderParticles& particles);
+    // The same with white water (packDiffuse) drawn over the water.
+    void write(int frame, const RenderParticles& particles, const RenderParticles& diffuse);
     // Replaces the solids drawn from the next write() on (rigid bodies move).
     void setSolids(const SolidMesh& solids);
 

@@ -11,12 +11,17 @@
 //    splats, a narrow-range filter on the depth, additive thickness, then a
 //    composite with normals from the smoothed depth, Fresnel reflection of
 //    the sky, and refraction of the background attenuated by the thickness
-//    (Beer-Lambert). Algorithm notes in docs/rendering.md.
+//    (Beer-Lambert). The depth splats are the particles' anisotropic
+//    ellipsoids (Yu & Turk 2013), so flat water and thin streams stay smooth.
+//    Algorithm notes in docs/rendering.md.
+// Both looks draw white water (pbf foam's spray, foam and bubbles) on request.
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -48,6 +53,11 @@ struct RenderSettings {
     bool drawBox = true;
     // Liquid look: depth smoothing iterations (each a horizontal and a vertical pass), [0, 10].
     int smoothingIterations = 3;
+    // Liquid look: depth splats are the particles' anisotropic ellipsoids
+    // (Yu & Turk 2013, surface::computeEllipsoids) rather than spheres.
+    bool anisotropic = true;
+    // White water (uploadDiffuse) drawn, in both looks.
+    bool drawDiffuse = true;
 };
 
 // The colour map's range that suits a scene: speed from 0 to the free-fall
@@ -61,6 +71,8 @@ struct RenderParticles {
 };
 RenderParticles packParticles(const ParticleStore& particles, ColorMode mode);
 RenderParticles packParticles(const ParticleFrame& frame, ColorMode mode);
+// Diffuse (white water) particles: x, y, z and the type (0 spray, 1 foam, 2 bubble).
+RenderParticles packDiffuse(std::span<const Vec3> positions, std::span<const std::uint8_t> types);
 
 // The colour map (a perceptually ordered blue-cyan-yellow-red ramp) at t in [0, 1];
 // the same polynomial as in the shaders, for colour bars drawn on the CPU side.
@@ -81,6 +93,10 @@ class SceneRenderer {
     void setSolids(const SolidMesh& mesh);
     void upload(const RenderParticles& particles);
     std::size_t particleCount() const;
+    // White water: pbf foam's diffuse particles (packDiffuse), drawn as small
+    // white spheres over the water in both looks. Empty: none.
+    void uploadDiffuse(const RenderParticles& diffuse);
+    std::size_t diffuseCount() const;
 
     // Renders into `framebuffer` (0: the window) at width x height pixels.
     void render(unsigned framebuffer, int width, int height, const Camera& camera,

@@ -29,14 +29,29 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "pbf/surface/mesh.hpp"
 #include "pbf/vec3.hpp"
 
 namespace pbf::surface {
 
+// How the particles become a level set (docs/surfaces.md, "Methods").
+enum class SurfaceMethod {
+    // Union of enlarged spheres, eroded back and smoothed (steps 1-4 above).
+    isotropic,
+    // Yu & Turk 2013 (anisotropic.hpp): every particle's kernel is an
+    // ellipsoid shaped by its neighbourhood, flat at flat water and thin in
+    // sheets; the level set is an iso-surface of the summed kernels.
+    anisotropic,
+};
+// "isotropic" / "anisotropic"; parseSurfaceMethod throws std::invalid_argument.
+const char* toString(SurfaceMethod method);
+SurfaceMethod parseSurfaceMethod(std::string_view text);
+
 struct SurfaceParams {
     float particleRadius = 0.0f;  // r, metres, > 0 (required)
+    SurfaceMethod method = SurfaceMethod::anisotropic;
     // Voxel edge of the level set in units of r: (0, 2]. Smaller is finer and
     // slower (cost ~ 1 / voxel^2). Must leave the rasterised spheres at least
     // 1.5 voxels wide.
@@ -45,8 +60,30 @@ struct SurfaceParams {
     // [1.5, 4]. Larger closes wider gaps and flattens more (thin sheets and
     // droplet chains merge), smaller keeps more detail.
     float sphereScale = 2.5f;
-    // Mean-curvature smoothing iterations after the closing: [0, 100].
+    // (isotropic) Mean-curvature smoothing iterations after the closing:
+    // [0, 100]. The anisotropic method's surface is smooth by construction
+    // and takes `anisotropicSmoothing` iterations instead.
     int smoothing = 6;
+    // (anisotropic) Yu & Turk 2013's parameters, lengths in units of r
+    // (docs/surfaces.md says how the defaults were chosen):
+    //  kernelRadius: the isotropic kernel radius h, [2, 8];
+    //  neighborRadius: the covariance's neighbourhood, [2, 12];
+    //  centreSmoothing: lambda of the smoothed centres (eq. 6), [0, 1];
+    //  maxAnisotropy: k_r, the largest ratio of the ellipsoid's axes, [1, 16]
+    //    (the paper's 4 meshes one-particle sheets 2.9 r thick; 6 gives 2 r);
+    //  isolatedScale: k_n, the kernel scale of particles with few
+    //    neighbours, [0.25, 1];
+    //  anisotropyMinNeighbors: N_eps, with fewer neighbours the kernel stays
+    //    a sphere, [1, 200] (a one-particle sheet has about 25 within 6 r);
+    //  anisotropicSmoothing: mean-curvature iterations afterwards, [0, 100].
+    // k_s is derived (anisotropic.hpp).
+    float kernelRadius = 6.0f;
+    float neighborRadius = 6.0f;
+    float centreSmoothing = 0.55f;
+    float maxAnisotropy = 6.0f;
+    float isolatedScale = 0.5f;
+    int anisotropyMinNeighbors = 15;
+    int anisotropicSmoothing = 1;
     // Particles with fewer neighbours within 4 r are spray and not meshed:
     // [0, 1000]; 0 keeps every particle.
     int minNeighbors = 4;
