@@ -231,11 +231,10 @@ int runRender(const RenderArguments& args) {
     const auto renderFrame = [&](int frame, const render::RenderParticles& particles,
                                  const render::RenderParticles& diffuse) {
         writer.write(frame, particles, diffuse);
-        progress.update(frame + 1,
-                        diffuse.count() > 0
-                            ? fmt::format("{} particles, {} white water", particles.count(),
-                                          diffuse.count())
-                            : fmt::format("{} particles", particles.count()));
+        progress.update(frame + 1, diffuse.count() > 0
+                                       ? fmt::format("{} particles, {} white water",
+                                                     particles.count(), diffuse.count())
+                                       : fmt::format("{} particles", particles.count()));
     };
     int status = 0;
     double simulateSeconds = 0.0;
@@ -278,7 +277,8 @@ int runRender(const RenderArguments& args) {
         if (haveScene && !scene.rigidBodies.empty() && fs::exists(bodiesCsv)) {
             bodyShapes = render::tessellateBodyShapes(scene);
             const World world(scene);
-            for (const RigidBodyInfo& info : world.bodyInfos()) shapeInBody.push_back(info.shapeInBody);
+            for (const RigidBodyInfo& info : world.bodyInfos())
+                shapeInBody.push_back(info.shapeInBody);
             bodyPoses = readBodyPoses(bodiesCsv);
         }
         const render::SolidMesh& statics = solids;
@@ -292,8 +292,9 @@ int runRender(const RenderArguments& args) {
                 for (std::size_t k = 0; k < bodyShapes.size() && k < poses.size(); ++k) {
                     const Pose& b = poses[k];
                     const Pose& local = shapeInBody[k];
-                    render::appendPosed(posed, bodyShapes[k],
-                                        {b.toWorld(local.position), b.orientation * local.orientation});
+                    render::appendPosed(
+                        posed, bodyShapes[k],
+                        {b.toWorld(local.position), b.orientation * local.orientation});
                 }
                 writer.setSolids(posed);
             }

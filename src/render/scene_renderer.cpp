@@ -66,8 +66,11 @@ constexpr float kLiquidRadiusScale = 1.8f;
 // (spray, a stream one particle wide) is a sphere of this many radii, so that
 // neighbours 2 r apart along a stream overlap into one line of water.
 constexpr float kIsolatedSplatScale = 1.2f;
+// The least thickness of water a covered pixel is tinted as, in particle
+// radii: a stream or sheet one particle thick stays visible.
+constexpr float kMinThicknessScale = 4.0f;
 // White water spheres, in particle radii.
-constexpr float kDiffuseRadiusScale = 0.45f;
+constexpr float kDiffuseRadiusScale = 0.7f;
 
 // Per particle 16 floats for the ellipsoid depth splats: the smoothed centre
 // and the bounding radius, then the rows of G (each padded to 4 floats). The
@@ -174,8 +177,9 @@ struct SceneRenderer::Impl {
         glBindBuffer(GL_ARRAY_BUFFER, ellipsoidVbo);
         for (GLuint k = 0; k < 4; ++k) {
             glEnableVertexAttribArray(k);
-            glVertexAttribPointer(k, k == 0 ? 4 : 3, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
-                                  reinterpret_cast<const void*>(std::size_t(4 * k) * sizeof(float)));
+            glVertexAttribPointer(
+                k, k == 0 ? 4 : 3, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
+                reinterpret_cast<const void*>(std::size_t(4 * k) * sizeof(float)));
             glVertexAttribDivisor(k, 1);
         }
         glGenVertexArrays(1, &emptyVao);
@@ -365,7 +369,8 @@ struct SceneRenderer::Impl {
         glUniform3fv(sphereShade.uniform("uFlatColor"), 1, s.flatColor.data());
         glUniform3fv(sphereShade.uniform("uLightView"), 1, glm::value_ptr(v.lightView));
         drawParticles(sphereShade, v);
-        if (s.drawDiffuse) drawDiffuse(v, 0.0f);
+        // Foam among the surface particles shows through their spheres.
+        if (s.drawDiffuse) drawDiffuse(v, radius);
         if (s.drawBox) drawBox(v);
     }
 
@@ -450,6 +455,7 @@ struct SceneRenderer::Impl {
         glUniform3f(composite.uniform("uAbsorption"), 8.0f, 2.2f, 1.0f);
         glUniform3f(composite.uniform("uScatter"), 0.02f, 0.22f, 0.35f);
         glUniform1f(composite.uniform("uRefraction"), 0.15f);
+        glUniform1f(composite.uniform("uMinThickness"), kMinThicknessScale * radius);
         glBindVertexArray(emptyVao);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glDepthFunc(GL_LESS);

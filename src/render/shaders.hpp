@@ -368,6 +368,7 @@ uniform vec3 uLightView;
 uniform vec3 uAbsorption;   // 1/m, per colour channel
 uniform vec3 uScatter;      // colour of deep water
 uniform float uRefraction;  // screen offset per metre of thickness
+uniform float uMinThickness;  // m: the least water any covered pixel is tinted as
 out vec4 outColor;
 vec3 viewPos(ivec2 pix, float z) {
     vec2 ndc = (vec2(pix) + 0.5) / vec2(textureSize(uDepth, 0)) * 2.0 - 1.0;
@@ -401,7 +402,10 @@ void main() {
     n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0, 0.0, 1.0);
     vec3 v = -normalize(p);
     if (dot(n, v) < 0.0) n = -n;
-    float thickness = texelFetch(uThickness, pix, 0).r;
+    // The Gaussian thickness of water one particle thick (a thin stream, a
+    // sheet) is about one radius: it would be all but transparent. Every
+    // covered pixel is tinted as at least uMinThickness of water.
+    float thickness = max(texelFetch(uThickness, pix, 0).r, uMinThickness);
 
     float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
     vec3 reflected = sky(uViewToWorld * reflect(-v, n));

@@ -318,17 +318,23 @@ void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& 
 }
 
 DiffuseParticles readDiffusePly(const std::filesystem::path& path) {
-    const auto fail = [&](const std::string& what) {
-        throw IoError(path.string() + ": " + what);
-    };
+    const auto fail = [&](const std::string& what) { throw IoError(path.string() + ": " + what); };
     std::ifstream in(path, std::ios::binary);
     if (!in) fail("cannot open");
     // The header writeDiffusePly writes, line by line (comments skipped).
-    const std::vector<std::string> expected = {
-        "ply", "format binary_little_endian 1.0", "element vertex", "property float x",
-        "property float y", "property float z", "property float vx", "property float vy",
-        "property float vz", "property uchar type", "property float lifetime",
-        "property uint id", "end_header"};
+    const std::vector<std::string> expected = {"ply",
+                                               "format binary_little_endian 1.0",
+                                               "element vertex",
+                                               "property float x",
+                                               "property float y",
+                                               "property float z",
+                                               "property float vx",
+                                               "property float vy",
+                                               "property float vz",
+                                               "property uchar type",
+                                               "property float lifetime",
+                                               "property uint id",
+                                               "end_header"};
     std::size_t count = 0;
     std::string line;
     for (std::size_t k = 0; k < expected.size();) {
@@ -336,10 +342,12 @@ DiffuseParticles readDiffusePly(const std::filesystem::path& path) {
         if (line.starts_with("comment")) continue;
         if (expected[k] == "element vertex") {
             const std::string prefix = "element vertex ";
-            if (!line.starts_with(prefix)) fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "')");
+            if (!line.starts_with(prefix))
+                fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "')");
             count = std::stoul(line.substr(prefix.size()));
         } else if (line != expected[k]) {
-            fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "', got '" + line + "')");
+            fail("not a diffuse PLY of pbf foam (expected '" + expected[k] + "', got '" + line +
+                 "')");
         }
         ++k;
     }
@@ -363,7 +371,9 @@ DiffuseParticles readDiffusePly(const std::filesystem::path& path) {
         d.position[k] = {f[0], f[1], f[2]};
         d.velocity[k] = {f[3], f[4], f[5]};
         const auto type = static_cast<std::uint8_t>(record[24]);
-        if (type > 2) fail("diffuse particle " + std::to_string(k) + " has unknown type " + std::to_string(type));
+        if (type > 2)
+            fail("diffuse particle " + std::to_string(k) + " has unknown type " +
+                 std::to_string(type));
         d.type[k] = DiffuseType(type);
         std::memcpy(&d.lifetime[k], record.data() + 25, 4);
         std::memcpy(&d.id[k], record.data() + 29, 4);

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 #include "pbf/render/camera.hpp"
 #include "pbf/render/headless.hpp"
@@ -40,12 +42,13 @@ class HeadlessRenderTest : public ::testing::Test {
     }
 
     Image render(const RenderParticles& particles, const RenderSettings& settings,
-                 const SolidMesh* solids = nullptr) {
+                 const SolidMesh* solids = nullptr, const RenderParticles* diffuse = nullptr) {
         SceneRenderer renderer;
         renderer.setDomain(scene_.simulation.domain);
         renderer.setParticleRadius(scene_.simulation.particleRadius);
         if (solids) renderer.setSolids(*solids);
         renderer.upload(particles);
+        if (diffuse) renderer.uploadDiffuse(*diffuse);
         OffscreenTarget target(kWidth, kHeight);
         renderer.render(target.framebuffer(), kWidth, kHeight, camera_, settings);
         return target.read();
@@ -264,6 +267,126 @@ TEST_F(HeadlessRenderTest, SolidInFrontHidesTheWater) {
         EXPECT_EQ(covered, total) << "the solid does not cover the water";
         EXPECT_GT(waterElsewhere, 50);
     }
+}
+
+// White water (pbf foam's diffuse particles): a cube of them, no fluid, in
+// both looks. Inside its projection (shrunk to 40 %) every pixel turns light
+// (each channel at least 170, well above the floor's and the sky's grey-blue
+// mix... and different from the empty image); outside it plus 3 pixels
+// nothing changes. An empty diffuse upload changes nothing at all.
+TEST_F(HeadlessRenderTest, WhiteWaterIsDrawnWhereDiffuseParticlesAreOnly) {
+    const Aabb cloud{{0.45f, 0.45f, 0.45f}, {0.55f, 0.55f, 0.55f}};
+    std::vector<Vec3> positions;
+    std::vector<std::uint8_t> types;
+    const float spacing = 0.6f * scene_.simulation.particleRadius;
+    for (float x = cloud.min.x; x <= cloud.max.x; x += spacing)
+        for (float y = cloud.min.y; y <= cloud.max.y; y += spacing)
+            for (float z = cloud.min.z; z <= cloud.max.z; z += spacing) {
+                positions.push_back({x, y, z});
+                types.push_back(std::uint8_t(positions.size() % 2));  // spray and foam
+            }
+    const RenderParticles diffuse = packDiffuse(positions, types);
+    const Rect inner = projectBox(camera_, cloud, 0.4f, 0);
+    const Rect outer = projectBox(camera_, cloud, 1.0f, 3);
+    for (const Style style : {Style::Spheres, Style::Liquid}) {
+        SCOPED_TRACE(toString(style));
+        RenderSettings settings;
+        settings.style = style;
+        const Image background = render(RenderParticles{}, settings);
+        const RenderParticles none;
+        const Image empty = render(RenderParticles{}, settings, nullptr, &none);
+        EXPECT_EQ(empty.rgba, background.rgba);
+        const Image white = render(RenderParticles{}, settings, nullptr, &diffuse);
+        int light = 0, total = 0, changedOutside = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 4;
+                if (x >= inner.x0 && x < inner.x1 && y >= inner.y0 && y < inner.y1) {
+                    ++total;
+                    light += white.rgba[i] >= 170 && white.rgba[i + 1] >= 170 &&
+                                     white.rgba[i + 2] >= 170 &&
+                                     difference(white, background, x, y) > 0
+                                 ? 1
+                                 : 0;
+                } else if (x < outer.x0 || x >= outer.x1 || y < outer.y0 || y >= outer.y1) {
+                    changedOutside += difference(white, background, x, y) > 0 ? 1 : 0;
+                }
+            }
+        ASSERT_GT(total, 16);
+        EXPECT_EQ(light, total) << "white water missing inside the cloud's projection";
+        EXPECT_EQ(changedOutside, 0) << "pixels changed away from the cloud";
+    }
+}
+
+// In the liquid look, foam lying on the water's surface is seen (its depth is
+// biased towards the camera past the smoothed surface), and bubbles deep
+// inside the block are not.
+TEST_F(HeadlessRenderTest, LiquidLookShowsFoamOnTheSurfaceAndHidesDeepBubbles) {
+    RenderSettings settings;
+    settings.style = Style::Liquid;
+    const RenderParticles water = packParticles(createParticles(scene_), ColorMode::Speed);
+    const Image plain = render(water, settings);
+    const float r = scene_.simulation.particleRadius;
+    // A square of foam on the block's top face, and bubbles at its centre.
+    const Vec3 c = (block_.min + block_.max) * 0.5f;
+    std::vector<Vec3> foam, bubbles;
+    for (float x = c.x - 0.05f; x <= c.x + 0.05f; x += 0.6f * r)
+        for (float z = c.z - 0.05f; z <= c.z + 0.05f; z += 0.6f * r) {
+            foam.push_back({x, block_.max.y, z});
+            bubbles.push_back({x, c.y, z});
+        }
+    const RenderParticles foamPacked =
+        packDiffuse(foam, std::vector<std::uint8_t>(foam.size(), std::uint8_t(1)));
+    const RenderParticles bubblesPacked =
+        packDiffuse(bubbles, std::vector<std::uint8_t>(bubbles.size(), std::uint8_t(2)));
+    const Image withFoam = render(water, settings, nullptr, &foamPacked);
+    const Image withBubbles = render(water, settings, nullptr, &bubblesPacked);
+    const Rect top = projectBox(
+        camera_,
+        Aabb{{c.x - 0.05f, block_.max.y, c.z - 0.05f}, {c.x + 0.05f, block_.max.y, c.z + 0.05f}},
+        0.4f, 0);
+    int light = 0, total = 0;
+    for (int y = top.y0; y < top.y1; ++y)
+        for (int x = top.x0; x < top.x1; ++x) {
+            ++total;
+            const std::size_t i = (std::size_t(y) * kWidth + std::size_t(x)) * 4;
+            light += withFoam.rgba[i] >= 170 && withFoam.rgba[i + 1] >= 170 &&
+                             withFoam.rgba[i + 2] >= 170 && difference(withFoam, plain, x, y) > 30
+                         ? 1
+                         : 0;
+        }
+    ASSERT_GT(total, 4);
+    EXPECT_GE(light, total * 9 / 10) << "foam on the surface is hidden";
+    EXPECT_EQ(withBubbles.rgba, plain.rgba) << "bubbles deep inside the water are drawn";
+}
+
+// A stream one particle wide (particles 2 r apart on a vertical line) is a
+// visible line of water in the liquid look: at the screen position of every
+// particle but the two ends, the image differs from the empty scene by more
+// than 30 (sum over R, G, B), also between two particles.
+TEST_F(HeadlessRenderTest, LiquidLookShowsAThinStream) {
+    const float r = scene_.simulation.particleRadius;
+    ParticleFrame stream;
+    std::vector<Vec3> samples;
+    for (float y = 0.3f; y <= 0.9f; y += 2.0f * r) {
+        stream.position.push_back({0.5f, y, 0.5f});
+        if (y > 0.33f && y < 0.87f) {
+            samples.push_back({0.5f, y, 0.5f});
+            samples.push_back({0.5f, y + r, 0.5f});  // halfway to the next
+        }
+    }
+    RenderSettings settings;
+    settings.style = Style::Liquid;
+    const Image background = render(RenderParticles{}, settings);
+    const Image image = render(packParticles(stream, ColorMode::Speed), settings);
+    int visible = 0;
+    for (const Vec3& p : samples) {
+        const Rect at = projectBox(camera_, Aabb{p, p}, 1.0f, 0);
+        const int x = std::clamp((at.x0 + at.x1) / 2, 0, kWidth - 1);
+        const int y = std::clamp((at.y0 + at.y1) / 2, 0, kHeight - 1);
+        visible += difference(image, background, x, y) > 30 ? 1 : 0;
+    }
+    EXPECT_EQ(visible, int(samples.size())) << "the stream is invisible in places";
 }
 
 TEST(SolidMesh, AnalyticShapesAreTessellatedOnTheirSurfaces) {
