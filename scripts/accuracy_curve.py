@@ -40,11 +40,12 @@ def modes(methods, fixed, tolerances):
         for n in fixed:
             yield f"{n} it", method, extra + [f"solver.iterations={n}"]
         for tol in tolerances:
-            yield f"tol {100 * tol:g} %", method, extra + [
+            # the method's own settings last: they may set min_iterations
+            yield f"tol {100 * tol:g} %", method, [
                 f"solver.max_density_error={tol}",
                 "solver.min_iterations=1",
                 "solver.max_iterations=100",
-            ]
+            ] + extra
 
 
 def run_one(pbf, radius, frames, overrides, out):

@@ -57,11 +57,13 @@ struct SolverParams {
     // Jacobi with omega beyond ~1.5 blew the dam break up (measured: 1.6).
     float overRelaxation = 1.0f;  // [0.5, 1.5]
     // Warm start: each substep's iterations start from the prediction plus
-    // this fraction of the particle's last pressure acceleration times dt^2
+    // this fraction of the particle's last pressure acceleration times dt^2,
+    // for particles that ended the last substep compressed
     // (reference::warmStart; DFSPH warm-starts its solvers the same way).
-    // 0: off (the paper's PBF). Above ~0.5 it feeds energy into violent
-    // flows (docs/performance.md).
-    float warmStart = 0.0f;  // [0, 0.5]
+    // 0: off (the paper's PBF). 0.8 with over_relaxation 1.2 is the measured
+    // best (docs/performance.md, "Accuracy per cost"); 1 feeds energy into
+    // violent flows, and so do fewer than ~4 iterations.
+    float warmStart = 0.0f;  // [0, 1]
     // Constraint-force-mixing epsilon of paper eq. 11, relative to the rest
     // lattice's sum |grad C|^2 (so the value means the same at any resolution).
     float relaxation = 0.01f;  // [1e-6, 10]

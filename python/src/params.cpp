@@ -84,7 +84,7 @@ void bindSolver(py::module_& m) {
                       floatSetter(&SolverParams::overRelaxation), "Jacobi omega, [0.5, 1.5]")
         .def_property("warm_start", floatGetter(&SolverParams::warmStart),
                       floatSetter(&SolverParams::warmStart),
-                      "fraction of the last pressure acceleration, [0, 0.5]")
+                      "fraction of the last pressure acceleration, [0, 1]")
         .def_property("relaxation", floatGetter(&SolverParams::relaxation),
                       floatSetter(&SolverParams::relaxation), "CFM epsilon, [1e-6, 10]")
         .def_readwrite("artificial_pressure", &SolverParams::artificialPressure)

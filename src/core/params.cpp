@@ -66,8 +66,8 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("solver.max_iterations", s.maxIterations, 1, 1000);
     if (!inRange(s.minIterations, 0, s.maxIterations))
         return outOfRange("solver.min_iterations", s.minIterations, 0, s.maxIterations);
-    if (!inRange(s.warmStart, 0.0f, 0.5f))
-        return outOfRange("solver.warm_start", s.warmStart, 0.0f, 0.5f);
+    if (!inRange(s.warmStart, 0.0f, 1.0f))
+        return outOfRange("solver.warm_start", s.warmStart, 0.0f, 1.0f);
     if (!inRange(s.overRelaxation, 0.5f, 1.5f))
         return outOfRange("solver.over_relaxation", s.overRelaxation, 0.5f, 1.5f);
     if (!inRange(s.relaxation, 1e-6f, 10.0f))

@@ -235,7 +235,7 @@ TEST(Checkpoint, ResumeWithEmittersAndSolidsIsBitIdentical) {
 // of the checkpoint, the resumed frames differ from frame 4 on.
 TEST(Checkpoint, ResumeWithWarmStartAndToleranceIsBitIdentical) {
     const pbf::test::ThreadCountScope oneThread(1);
-    const pbf::Scene scene = smallDamBreak({pbf::parseOverride("solver.warm_start=0.4"),
+    const pbf::Scene scene = smallDamBreak({pbf::parseOverride("solver.warm_start=0.8"),
                                             pbf::parseOverride("solver.over_relaxation=1.2"),
                                             pbf::parseOverride("solver.max_density_error=0.001")});
     const fs::path straight = freshTestDirectory("warm_straight");

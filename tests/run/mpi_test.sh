@@ -102,7 +102,7 @@ PY
 # (exact fixed-point sums: the same iteration count as one process) and the
 # warm start's accelerations migrate and are gathered with the particles;
 # the run stops at frame 8 on 2 ranks and resumes on 3.
-accurate=("${base[@]}" --set solver.max_density_error=0.002 --set solver.warm_start=0.4
+accurate=("${base[@]}" --set solver.max_density_error=0.002 --set solver.warm_start=0.8
           --set solver.over_relaxation=1.2)
 "$pbf" "${accurate[@]}" --frames 12 --out "$work/acc1" > /dev/null
 "${mpi[@]}" -np 2 "$pbf" "${accurate[@]}" --frames 8 --out "$work/acc2" > "$work/acc2.log" 2>&1 ||

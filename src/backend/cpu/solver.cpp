@@ -60,8 +60,8 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     p.solveAcceleration.resize(warmStart ? p.size() : 0);
     if (warmStart) {
         detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
-            stages::warmStartPredictions(s.warmStart, dt, box, p.solveAcceleration, p.predicted, b,
-                                         e);
+            stages::warmStartPredictions(c, s.warmStart, dt, p.solveAcceleration, p.density.data(),
+                                         p.predicted, b, e);
         });
     }
     if (solids) {

@@ -19,12 +19,14 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
     }
 }
 
-void warmStartPredictions(float warm, float dt, const Aabb& box,
-                          const Float3Array& solveAcceleration, Float3Array& predicted,
-                          std::size_t begin, std::size_t end) {
+void warmStartPredictions(const SolverConstants& c, float warm, float dt,
+                          const Float3Array& solveAcceleration, const float* lastDensity,
+                          Float3Array& predicted, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-        predicted.set(i, clampToBox(box, reference::warmStart(predicted.get(i),
-                                                              solveAcceleration.get(i), warm, dt)));
+        predicted.set(i,
+                      clampToBox(c.collisionBox,
+                                 reference::warmStart(c, predicted.get(i), solveAcceleration.get(i),
+                                                      lastDensity[i], warm, dt)));
 }
 
 void recordSolveAcceleration(float dt, const Float3Array& position, const Float3Array& predicted,
@@ -111,7 +113,8 @@ void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float
                          std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 x = predicted.get(i);
-        Vec3 v = boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity.get(i));
+        Vec3 v =
+            boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity.get(i));
         if (solids) {
             const Vec3 before = v;
             std::size_t touched = boundary::kNoSolid;

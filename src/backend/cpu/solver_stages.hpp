@@ -5,9 +5,8 @@
 // is what makes the step deterministic under any thread count.
 #pragma once
 
-#include <cstdint>
-
 #include <cstddef>
+#include <cstdint>
 
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver.hpp"
@@ -24,11 +23,12 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
                       std::size_t end);
 
 // Warm start (solver.warm_start = w): x* += w dt^2 a_i, a_i the pressure
-// acceleration of the particle's last substep (reference::warmStart), kept
-// in the collision box.
-void warmStartPredictions(float warm, float dt, const Aabb& box,
-                          const Float3Array& solveAcceleration, Float3Array& predicted,
-                          std::size_t begin, std::size_t end);
+// acceleration of the particle's last substep, for particles whose last
+// density (`lastDensity`) was compressed (reference::warmStart), kept in the
+// collision box.
+void warmStartPredictions(const SolverConstants& c, float warm, float dt,
+                          const Float3Array& solveAcceleration, const float* lastDensity,
+                          Float3Array& predicted, std::size_t begin, std::size_t end);
 // After the iterations: a_i = (x*_i - x_i - dt v_i) / dt^2, v_i the predicted
 // velocity (reference::solveAcceleration).
 void recordSolveAcceleration(float dt, const Float3Array& position, const Float3Array& predicted,
@@ -47,9 +47,9 @@ void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::siz
 // Writes x*_i with lambda_i in w to `withLambda` (the next pass reads both).
 // Returns the sum of C_i over the range (for the iteration control).
 std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                             const NeighborSearch& search, const PackedPoint* predicted,
-                             float* density, PackedPoint* withLambda, std::size_t begin,
-                             std::size_t end);
+                                     const NeighborSearch& search, const PackedPoint* predicted,
+                                     float* density, PackedPoint* withLambda, std::size_t begin,
+                                     std::size_t end);
 
 // Paper eq. 12-14: dp_i = 1/rho0 sum_j (lambda_i + lambda_j + s_corr) m grad W_ij,
 // then x*_i + dp_i projected into the collision box and out of the solids

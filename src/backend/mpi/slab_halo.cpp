@@ -276,8 +276,8 @@ void SlabHalo::distribute(ParticleStore& p) {
             next_.density[k] = r.density;
             next_.id[k] = r.id;
             if (accelerated)
-                next_.solveAcceleration.set(k, {r.solveAcceleration[0], r.solveAcceleration[1],
-                                                r.solveAcceleration[2]});
+                next_.solveAcceleration.set(
+                    k, {r.solveAcceleration[0], r.solveAcceleration[1], r.solveAcceleration[2]});
         }
     }
     next_.setNextId(p.nextId());

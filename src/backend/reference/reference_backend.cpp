@@ -52,6 +52,7 @@ void ReferenceBackend::load() {
     for (std::size_t i = 0; i < n; ++i) {
         position_[i] = store_.position.get(i);
         velocity_[i] = store_.velocity.get(i);
+        density_[i] = store_.density[i];  // the last substep's: the warm start's test
         if (warm) solveAcceleration_[i] = store_.solveAcceleration.get(i);
     }
 }
@@ -91,7 +92,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         predicted_[i] = boundary::clampToBox(box, position_[i] + dt * velocity_[i]);
         if (warm > 0.0f)
             predicted_[i] = boundary::clampToBox(
-                box, reference::warmStart(predicted_[i], solveAcceleration_[i], warm, dt));
+                box, reference::warmStart(c, predicted_[i], solveAcceleration_[i], density_[i],
+                                          warm, dt));
         if (solids) {
             const Vec3 before = predicted_[i];
             std::size_t touched = boundary::kNoSolid;
@@ -137,7 +139,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
                 if (reactions) {
                     const reference::SolidCorrection s =
                         reference::solidCorrection(c, *solids, lambda_[i], predicted_[i]);
-                    reactions->add(i, s.solid, predicted_[i], reference::overRelaxed(c, s.displacement));
+                    reactions->add(i, s.solid, predicted_[i],
+                                   reference::overRelaxed(c, s.displacement));
                     reactions->add(i, touched, moved, moved - unprojected);
                 }
             }

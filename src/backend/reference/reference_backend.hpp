@@ -26,7 +26,7 @@ class ReferenceBackend final : public HostBackend {
     BackendDiagnostics diagnostics() const override;
 
   private:
-    void load();    // store_ -> the Vec3 arrays
+    void load();                  // store_ -> the Vec3 arrays
     void commit(bool warmStart);  // the Vec3 arrays -> store_
     std::size_t bufferBytes() const;
 
@@ -36,8 +36,8 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> predicted_;  // x*
     std::vector<Vec3> corrected_;  // x* + dp of the current iteration (Jacobi)
     std::vector<Vec3> velocity_;
-    std::vector<Vec3> postVelocity_;  // v after XSPH and confinement (Jacobi)
-    std::vector<Vec3> vorticity_;     // omega, eq. 15
+    std::vector<Vec3> postVelocity_;       // v after XSPH and confinement (Jacobi)
+    std::vector<Vec3> vorticity_;          // omega, eq. 15
     std::vector<Vec3> predictedVelocity_;  // v + dt g, before the iterations
     std::vector<Vec3> solveAcceleration_;  // warm start: the last substep's, then this one's
     std::vector<float> density_;

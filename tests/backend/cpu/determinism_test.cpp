@@ -80,7 +80,7 @@ TEST(Determinism, CompactAndWideNeighbourListsGiveIdenticalBits) {
 TEST(Determinism, AccuracyOptionsGiveIdenticalBitsOnOneAndTwoThreads) {
     const std::vector<std::string> options{"solver.max_density_error=0.002",
                                            "solver.min_iterations=1", "solver.max_iterations=50",
-                                           "solver.over_relaxation=1.2", "solver.warm_start=0.4"};
+                                           "solver.over_relaxation=1.2", "solver.warm_start=0.8"};
     const pbf::ParticleStore one = runSteps(1, 100, 65536, options);
     const pbf::ParticleStore two = runSteps(2, 100, 65536, options);
     pbf::setThreadCount(pbf::hardwareThreadCount());

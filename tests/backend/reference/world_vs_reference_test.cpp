@@ -101,14 +101,16 @@ TEST(WorldVsReference, DamBreakAgreesOverFiftySubsteps) {
 
 // The accuracy options (reference::overRelaxed, reference::warmStart and
 // reference::solveAcceleration beside the SIMD stages): same yardstick. The
-// warm-started flow amplifies an ulp faster (the CPU's own one-ulp twin is
-// 0.07 spacings apart after 50 substeps, against 0.02 without), so the
-// absolute cap is looser; the ratio to the twin is the test.
+// warm start switches per particle on "compressed at the end of the last
+// substep", a threshold that amplifies an ulp much faster (the CPU's own
+// one-ulp twin is about a spacing apart after 50 substeps, against 0.02
+// without), so there is no absolute cap: the ratio to the twin is the test
+// (a wrong term still moves particles 1000 times the floor in step one).
 TEST(WorldVsReference, OverRelaxedWarmStartedDamBreakAgrees) {
     expectAgreementOverFiftySubsteps(
-        parseScene(damBreakJson(R"(, "over_relaxation": 1.2, "warm_start": 0.4)"),
+        parseScene(damBreakJson(R"(, "over_relaxation": 1.2, "warm_start": 0.8)"),
                    "small_dam_break"),
-        0.5);
+        1e30);
 }
 
 // The same with a rigid body in the flow (a 6 cm box, 500 kg/m^3, dropped
