@@ -59,15 +59,9 @@ Tank settle(float radius, const Options& options) {
     def.simulation.domain = {{0, 0, 0}, {kWidth, 1.5f * kHeight, kWidth}};
     def.simulation.particleRadius = radius;
     def.fluidBlocks.push_back({{{0, 0, 0}, {kWidth, kHeight, kWidth}}, {0, 0, 0}});
-    // PBF's residual velocity noise at rest comes from each step's gravity
-    // push g dt^2 that 4 Jacobi iterations do not remove entirely
-    // (include/pbf/params.hpp); it must stay small against the spacing. The
-    // default cap of 1/240 s keeps g dt^2 below 0.9 % of a 2 cm spacing;
-    // the same fraction of finer spacings needs shorter steps (measured:
-    // 5 mm spacing at 1/240 s boils at 0.06 m/s median speed).
+    // Steps short enough for the water to come to rest (detail::restingTimeStep).
     const double spacing = 2.0 * radius;
-    def.simulation.solver.maxTimeStep =
-        float(std::min(1.0 / 240.0, std::sqrt(0.0086 * spacing / kG)));
+    def.simulation.solver.maxTimeStep = float(detail::restingTimeStep(radius));
     def.fps = 30.0f;
     World world(def);
     Tank tank;

@@ -1,8 +1,13 @@
 #include "validate/measure.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
+#include <utility>
+
+#include "pbf/solids.hpp"
 
 namespace pbf::validation::detail {
 
@@ -54,6 +59,53 @@ plot::Series record(CaseResult& result, const std::string& series, const std::st
                     const std::vector<double>& y, plot::Style style) {
     result.data.push_back({series, xName, yName, x, y});
     return {series, x, y, style};
+}
+
+double restingTimeStep(float radius) {
+    const double spacing = 2.0 * radius;
+    return std::min(1.0 / 240.0, std::sqrt(0.0086 * spacing / 9.81));
+}
+
+double waterLevel(const World& world, double clearance) {
+    const ParticleStore& p = world.particles();
+    const float cell = world.definition().simulation.particleSpacing();
+    std::map<std::pair<int, int>, float> highest;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3 x = p.position.get(i);
+        bool nearBody = false;
+        for (const RigidBodyState& b : world.bodyStates())
+            nearBody = nearBody || std::hypot(x.x - b.position.x, x.z - b.position.z) < clearance;
+        if (nearBody) continue;
+        const auto key = std::make_pair(int(std::floor(x.x / cell)), int(std::floor(x.z / cell)));
+        const auto [it, inserted] = highest.emplace(key, x.y);
+        if (!inserted) it->second = std::max(it->second, x.y);
+    }
+    if (highest.empty()) return std::numeric_limits<double>::quiet_NaN();
+    double sum = 0.0;
+    for (const auto& [key, y] : highest) sum += y;
+    return sum / double(highest.size()) + world.definition().simulation.particleRadius;
+}
+
+double submergedFraction(const World& world, std::size_t body, double level, int samples) {
+    const RigidBodyInfo& info = world.bodyInfos().at(body);
+    const RigidBodyState& s = world.bodyStates()[body];
+    const Pose pose{s.position, s.orientation};
+    const Solid& shape = world.solids().shape(info.solid);
+    const Aabb box = shape.bounds();  // in the shape's own frame
+    const Vec3 extent = box.extent();
+    long inside = 0, below = 0;
+    for (int a = 0; a < samples; ++a)
+        for (int b = 0; b < samples; ++b)
+            for (int c = 0; c < samples; ++c) {
+                const auto at = [&](int k) { return (float(k) + 0.5f) / float(samples); };
+                const Vec3 local{box.min.x + at(a) * extent.x, box.min.y + at(b) * extent.y,
+                                 box.min.z + at(c) * extent.z};
+                Vec3 normal;
+                if (shape.signedDistance(local, normal) >= 0.0f) continue;
+                ++inside;
+                if (pose.toWorld(info.shapeInBody.toWorld(local)).y < level) ++below;
+            }
+    return inside > 0 ? double(below) / double(inside) : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace pbf::validation::detail

@@ -103,7 +103,7 @@ TEST(ValidationCases, AllRegisteredWithUniqueNames) {
         names.push_back(c.name);
     }
     EXPECT_EQ(names, (std::vector<std::string>{"martin_moyce", "hydrostatic", "free_fall",
-                                               "momentum", "taylor_green"}));
+                                               "momentum", "taylor_green", "archimedes"}));
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 // computed from the forces: the water level from the particles (mean of the
 // highest particle of each 2r x 2r column away from the bodies, plus r —
 // the lattice's top layer sits r below the surface) and the share of the
-// cube's volume below it (a 24^3 grid of points in the posed cube).
+// cube's volume below it (a 24^3 grid of points in the posed cube); the
+// helpers are shared with `pbf validate archimedes` (src/validate/measure.hpp).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -24,6 +25,7 @@
 #include "pbf/threading.hpp"
 #include "pbf/world.hpp"
 #include "support/test_util.hpp"
+#include "validate/measure.hpp"
 
 namespace pbf::test {
 namespace {
@@ -50,42 +52,10 @@ RigidBodyDescription cube(const Vec3& centre, float density) {
     return b;
 }
 
-// Water level: mean over the 2r x 2r columns farther than `clearance` from
-// every body's centre (horizontally) of the highest particle, plus r.
-double waterLevel(const World& world, double clearance) {
-    const ParticleStore& p = world.particles();
-    const float cell = world.definition().simulation.particleSpacing();
-    std::map<std::pair<int, int>, float> highest;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const Vec3 x = p.position.get(i);
-        bool nearBody = false;
-        for (const RigidBodyState& b : world.bodyStates())
-            nearBody = nearBody || std::hypot(x.x - b.position.x, x.z - b.position.z) < clearance;
-        if (nearBody) continue;
-        const auto key = std::make_pair(int(x.x / cell), int(x.z / cell));
-        const auto [it, inserted] = highest.emplace(key, x.y);
-        if (!inserted) it->second = std::max(it->second, x.y);
-    }
-    double sum = 0.0;
-    for (const auto& [key, y] : highest) sum += y;
-    return sum / double(highest.size()) + world.definition().simulation.particleRadius;
-}
-
-// Share of cube i's volume below `level`.
-double submergedFraction(const World& world, std::size_t i, double level) {
-    const RigidBodyState& s = world.bodyStates()[i];
-    const Pose pose{s.position, s.orientation};
-    constexpr int n = 24;
-    int below = 0;
-    for (int a = 0; a < n; ++a)
-        for (int b = 0; b < n; ++b)
-            for (int c = 0; c < n; ++c) {
-                const auto at = [](int k) { return (float(k) + 0.5f) / float(n) - 0.5f; };
-                const Vec3 local = Vec3{at(a), at(b), at(c)} * kSide;
-                if (pose.toWorld(local).y < level) ++below;
-            }
-    return double(below) / double(n * n * n);
-}
+// The water level and a body's submerged fraction are measured as
+// `pbf validate`'s Archimedes case does (src/validate/measure.hpp).
+using validation::detail::submergedFraction;
+using validation::detail::waterLevel;
 
 struct BodyMotion {
     double speed = 0.0;         // |v|, m/s
