@@ -86,10 +86,11 @@ def plot(points, out):
         for key, name in (("avg_compression", "average"), ("max_compression", "maximum")):
             series = []
             for method in dict.fromkeys(p["method"] for p in points):
-                for kind, style, what in (("it", "line", "fixed iterations"),
+                for kind, style, what in (("fixed", "line", "fixed iterations"),
                                           ("tol", "dashed", "tolerance")):
                     sel = sorted((p for p in points if p["size"] == size and
-                                  p["method"] == method and p["mode"].startswith(kind)),
+                                  p["method"] == method and
+                                  p["mode"].startswith("tol") == (kind == "tol")),
                                  key=lambda p: p["cpu_per_sim_s"])
                     if sel:
                         series.append({"label": f"{method}, {what}", "style": style,
@@ -123,7 +124,15 @@ def main():
     parser.add_argument("--method", action="append", default=[],
                         help="NAME:FIELD=VALUE[,FIELD=VALUE] compared with plain Jacobi, "
                              "e.g. omega1.5:solver.over_relaxation=1.5")
+    parser.add_argument("--replot", action="store_true",
+                        help="only draw OUT/curve.png again from OUT/curve.csv")
     args = parser.parse_args()
+    if args.replot:
+        with open(pathlib.Path(args.out) / "curve.csv") as f:
+            points = [{k: (v if k in ("size", "method", "mode") else float(v))
+                       for k, v in row.items()} for row in csv.DictReader(f)]
+        plot(points, pathlib.Path(args.out))
+        return 0
     methods = [("jacobi", [])]
     for m in args.method:
         name, _, sets = m.partition(":")
