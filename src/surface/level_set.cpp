@@ -247,9 +247,12 @@ std::vector<Vec3> levelSetNormals(const openvdb::FloatGrid& grid,
     std::vector<Vec3> normals(points.size());
     const double d = grid.voxelSize()[0];
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const auto& range) {
+        // GridSampler keeps a reference to the accessor: it must outlive the
+        // sampler (a temporary here was a stack-use-after-scope under ASan).
+        const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
         const openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor,
                                           openvdb::tools::BoxSampler>
-            phi(grid.getConstAccessor(), grid.transform());
+            phi(accessor, grid.transform());
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const openvdb::Vec3d p = points[i];
             const openvdb::Vec3d g(phi.wsSample(p + openvdb::Vec3d(d, 0, 0)) -
