@@ -6,21 +6,7 @@
 # byte for byte (nothing lost, no half frame left).
 # Usage: mpi_kill_rank_test.sh PBF WORKDIR SOURCE_DIR MPI_BUILT MPIRUN
 set -euo pipefail
-pbf=$1
-work=$2
-src=$3
-built=$4
-mpirun=${5:-}
-if [ "$built" != "ON" ] || [ -z "$mpirun" ] || [ ! -x "$mpirun" ]; then
-    echo "SKIP: pbf was built without MPI (PBF_MPI=$built) or mpirun is missing; install" \
-         "libopenmpi-dev openmpi-bin and reconfigure to run the distributed tests"
-    exit 77
-fi
-rm -rf "$work"
-mkdir -p "$work"
-export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
-mpi=("$mpirun" --oversubscribe --allow-run-as-root --mca btl self,vader)
-fail() { echo "FAIL: $*"; exit 1; }
+source "$(dirname "$0")/mpi_common.sh"
 
 frames=24
 run=(run "$src/scenes/dam_break.json" -q --set particle_radius=0.02 --no-plot --render none
