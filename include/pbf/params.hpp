@@ -22,6 +22,12 @@ struct FluidParams {
     // Vorticity confinement epsilon (paper eq. 16, Fedkiw et al. 2001),
     // dimensionless: acceleration = epsilon * h * |omega| * (N x omega). [0, 10].
     float vorticity = 0.0f;
+    // Surface tension sigma, N/m (water at 20 C: 0.0728), [0, 10]; 0: off.
+    // Pairwise cohesion (Akinci, Akinci & Teschner 2013, eq. 1-2) whose
+    // strength is derived from sigma on the rest lattice (SolverConstants),
+    // so that a drop has the Laplace pressure 2 sigma / R and the Rayleigh
+    // frequency of real water (docs/surface_tension.md).
+    float surfaceTension = 0.0f;
 };
 
 struct ArtificialPressureParams {
@@ -87,6 +93,11 @@ struct SolverParams {
     // tangential velocity is scaled by (1 - friction) on contact.
     float restitution = 0.0f;  // [0, 1]
     float friction = 0.0f;     // [0, 1]
+    // Domain walls' adhesion with surface tension on: the work of adhesion in
+    // units of the water's work of cohesion 2 sigma, [0, 1]; Young-Dupre's
+    // contact angle is acos(2 a - 1): 0 water beads (180 deg), 0.5 neutral
+    // (90 deg), 1 wets completely. Solids and bodies have their own.
+    float wallAdhesion = 0.0f;
 };
 
 struct SimulationParams {

@@ -81,6 +81,11 @@ class SolidSet {
     void setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale);
     bool hasBoundaryScale(std::size_t i) const { return scales_[i] != nullptr; }
     float boundaryScale(std::size_t i, const Vec3& p) const;
+    // How strongly water wets solid i when surface tension is on: the work
+    // of adhesion in units of the water's work of cohesion 2 sigma, [0, 1]
+    // (Young-Dupre: contact angle acos(2 a - 1)); 0 by default.
+    void setAdhesion(std::size_t i, float adhesion);
+    float adhesion(std::size_t i) const { return adhesion_[i]; }
     // World-space box around solid i's surface.
     const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 
@@ -117,6 +122,7 @@ class SolidSet {
     std::vector<Aabb> bounds_;
     std::vector<bool> coupled_;
     std::vector<std::shared_ptr<const BoundaryScale>> scales_;
+    std::vector<float> adhesion_;
     bool moving_ = false;
     bool anyCoupled_ = false;
 };

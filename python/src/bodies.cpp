@@ -64,6 +64,10 @@ void bindDescription(py::module_& m) {
                       floatSetter(&RigidBodyDescription::friction), "[0, 10]")
         .def_property("restitution", floatGetter(&RigidBodyDescription::restitution),
                       floatSetter(&RigidBodyDescription::restitution), "[0, 1]")
+        .def_property(
+            "adhesion", [](const RigidBodyDescription& b) { return shortestDouble(b.shape.adhesion); },
+            [](RigidBodyDescription& b, float a) { b.shape.adhesion = a; },
+            "wetting with surface tension (shape.adhesion), [0, 1]")
         .def_readwrite("field", &RigidBodyDescription::field,
                        "name in messages, e.g. \"rigid_bodies[0]\"")
         .def("__repr__", [](const py::object& self) {

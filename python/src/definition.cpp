@@ -188,6 +188,9 @@ void bindSolids(py::module_& m) {
                       floatSetter(&SolidDescription::height))
         .def_readwrite("file", &SolidDescription::file)
         .def_readwrite("transform", &SolidDescription::transform)
+        .def_property("adhesion", floatGetter(&SolidDescription::adhesion),
+                      floatSetter(&SolidDescription::adhesion),
+                      "wetting with surface tension: work of adhesion / 2 sigma, [0, 1]")
         .def_readwrite("field", &SolidDescription::field, "name in messages, e.g. \"solids[2]\"")
         .def("__repr__", [](const py::object& self) {
             switch (self.cast<const SolidDescription&>().kind) {

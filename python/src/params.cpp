@@ -50,8 +50,12 @@ void bindFluid(py::module_& m) {
                       floatSetter(&FluidParams::viscosity), "XSPH c, [0, 1]")
         .def_property("vorticity", floatGetter(&FluidParams::vorticity),
                       floatSetter(&FluidParams::vorticity), "confinement epsilon, [0, 10]")
+        .def_property("surface_tension", floatGetter(&FluidParams::surfaceTension),
+                      floatSetter(&FluidParams::surfaceTension),
+                      "sigma, N/m (water 0.0728), [0, 10]; 0: off")
         .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "FluidParams", {"rest_density", "viscosity", "vorticity"});
+            return reprOf(self, "FluidParams",
+                          {"rest_density", "viscosity", "vorticity", "surface_tension"});
         });
 }
 
@@ -107,11 +111,14 @@ void bindSolver(py::module_& m) {
                       floatSetter(&SolverParams::restitution), "[0, 1]")
         .def_property("friction", floatGetter(&SolverParams::friction),
                       floatSetter(&SolverParams::friction), "[0, 1]")
+        .def_property("wall_adhesion", floatGetter(&SolverParams::wallAdhesion),
+                      floatSetter(&SolverParams::wallAdhesion),
+                      "domain walls' adhesion with surface tension, [0, 1]")
         .def("__repr__", [](const py::object& self) {
             return reprOf(self, "SolverParams",
                           {"iterations", "relaxation", "artificial_pressure",
                            "kernel_radius_factor", "time_step", "cfl", "max_time_step",
-                           "max_substeps", "substeps", "restitution", "friction"});
+                           "max_substeps", "substeps", "restitution", "friction", "wall_adhesion"});
         });
 }
 

@@ -5,13 +5,18 @@
 namespace pbf::boundary {
 namespace {
 
-// Linear interpolation in the flat-wall table at distance s.
-void sampleWallTable(const WallTable& w, float distance, float& kernel, float& gradient) {
+// Linear interpolation in a column of the flat-wall table at distance s.
+float sampleWall(const float (&column)[WallTable::kSamples + 1], const WallTable& w,
+                 float distance) {
     const float t = std::max(distance, 0.0f) * w.inverseStep;
     const int k = std::min(static_cast<int>(t), WallTable::kSamples - 1);
     const float f = t - float(k);
-    kernel = w.kernelSum[k] + f * (w.kernelSum[k + 1] - w.kernelSum[k]);
-    gradient = w.gradientSum[k] + f * (w.gradientSum[k + 1] - w.gradientSum[k]);
+    return column[k] + f * (column[k + 1] - column[k]);
+}
+
+void sampleWallTable(const WallTable& w, float distance, float& kernel, float& gradient) {
+    kernel = sampleWall(w.kernelSum, w, distance);
+    gradient = sampleWall(w.gradientSum, w, distance);
 }
 
 // Coulomb friction: the tangential speed drops by mu times the normal speed
@@ -69,6 +74,40 @@ void addNearSolidContribution(const SolverConstants& c, const SolidSet& solids, 
     if (s.solid == kNoSolid) return;
     kernelSum += s.kernelSum;
     gradient += s.gradient;
+}
+
+AdhesionPull adhesionPull(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
+                          const Vec3& x) {
+    AdhesionPull pull;
+    const WallTable& w = c.wall;
+    if (wallAdhesion > 0.0f) {
+        // `into`: the direction from x into the wall along the axis.
+        auto add = [&](float distance, float Vec3::*axis, float into) {
+            if (distance < w.range)
+                pull.walls.*axis += into * wallAdhesion * sampleWall(w.cohesionSum, w, distance);
+        };
+        const Aabb& d = c.domain;
+        add(x.x - d.min.x, &Vec3::x, -1.0f);
+        add(d.max.x - x.x, &Vec3::x, 1.0f);
+        add(x.y - d.min.y, &Vec3::y, -1.0f);
+        add(d.max.y - x.y, &Vec3::y, 1.0f);
+        add(x.z - d.min.z, &Vec3::z, -1.0f);
+        add(d.max.z - x.z, &Vec3::z, 1.0f);
+    }
+    if (!solids) return pull;
+    Vec3 normal;
+    std::size_t nearest = kNoSolid;
+    const float distance = solids->signedDistance(x, w.range, normal, &nearest);
+    if (!(distance < w.range) || !(solids->adhesion(nearest) > 0.0f)) return pull;
+    float strength = solids->adhesion(nearest) * sampleWall(w.cohesionSum, w, distance);
+    // A finite body: scaled like its density share (the poly6 kernel's ratio
+    // of the body to the half-space, world/boundary_scale.hpp; for the
+    // cohesion kernel an approximation that keeps corners from pulling as
+    // hard as flat walls).
+    if (solids->hasBoundaryScale(nearest)) strength *= solids->boundaryScale(nearest, x);
+    pull.solid = normal * -strength;
+    pull.solidIndex = nearest;
+    return pull;
 }
 
 Vec3 resolveSolidCollision(const SolverConstants& c, const SolidSet& solids, const Vec3& start,

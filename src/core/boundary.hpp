@@ -62,6 +62,22 @@ inline void addSolidContribution(const SolverConstants& c, const SolidSet* solid
     if (solids) addNearSolidContribution(c, *solids, x, kernelSum, gradient);
 }
 
+// Adhesion (surface tension on; Akinci et al. 2013 eq. 6 with the
+// distance-field boundary): the walls and the nearest solid pull a particle
+// as the rest lattice continued beyond their surface would (WallTable::
+// cohesionSum), times their adhesion (the work of adhesion in units of the
+// water's 2 sigma). `walls` is the domain walls' share, `solid` the nearest
+// solid's (index `solidIndex`, kNoSolid when none pulls): weighted sums of
+// C(r) r_hat, 1/m^3, pointing into the boundary. Zero where every adhesion
+// within reach is zero.
+struct AdhesionPull {
+    Vec3 walls;
+    Vec3 solid;
+    std::size_t solidIndex = kNoSolid;
+};
+AdhesionPull adhesionPull(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
+                          const Vec3& x);
+
 // Keeps x at least one particle radius outside every solid. The move from
 // `start` (outside, the start of the step) to x is swept by sphere tracing
 // the distance field: if it enters a solid, x stops at the surface, so no

@@ -56,6 +56,8 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("fluid.viscosity", f.viscosity, 0.0f, 1.0f);
     if (!inRange(f.vorticity, 0.0f, 10.0f))
         return outOfRange("fluid.vorticity", f.vorticity, 0.0f, 10.0f);
+    if (!inRange(f.surfaceTension, 0.0f, 10.0f))
+        return outOfRange("fluid.surface_tension", f.surfaceTension, 0.0f, 10.0f);
 
     const SolverParams& s = p.solver;
     if (!inRange(s.iterations, 1, 100))
@@ -91,6 +93,8 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("solver.restitution", s.restitution, 0.0f, 1.0f);
     if (!inRange(s.friction, 0.0f, 1.0f))
         return outOfRange("solver.friction", s.friction, 0.0f, 1.0f);
+    if (!inRange(s.wallAdhesion, 0.0f, 1.0f))
+        return outOfRange("solver.wall_adhesion", s.wallAdhesion, 0.0f, 1.0f);
     return {};
 }
 

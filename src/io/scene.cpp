@@ -131,6 +131,7 @@ SolverParams readSolver(JsonReader r) {
     s.fixedSubsteps = r.integer("substeps", s.fixedSubsteps);
     s.restitution = r.number("restitution", s.restitution);
     s.friction = r.number("friction", s.friction);
+    s.wallAdhesion = r.number("wall_adhesion", s.wallAdhesion);
     r.finish();
     return s;
 }
@@ -213,6 +214,7 @@ void readRenderOutput(JsonReader& o, RenderOutput& render) {
 void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& folder,
                bool body) {
     const std::string type = r.string("type", "");
+    d.adhesion = r.number("adhesion", d.adhesion);  // its range: validate(WorldDef)
     if (type == "box") {
         d.kind = SolidDescription::Kind::Box;
         d.box = readBox(r);
@@ -390,6 +392,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         sim.fluid.restDensity = f.number("rest_density", sim.fluid.restDensity);
         sim.fluid.viscosity = f.number("viscosity", sim.fluid.viscosity);
         sim.fluid.vorticity = f.number("vorticity", sim.fluid.vorticity);
+        sim.fluid.surfaceTension = f.number("surface_tension", sim.fluid.surfaceTension);
         f.finish();
     }
     sim.solver = readSolver(root.object("solver"));

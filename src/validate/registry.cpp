@@ -10,10 +10,14 @@ Case freeFallCase();
 Case momentumCase();
 Case taylorGreenCase();
 Case archimedesCase();
+Case rayleighDropCase();
+Case cubeToSphereCase();
+Case wettingCase();
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(), freeFallCase(),
-                                       momentumCase(),    taylorGreenCase(), archimedesCase()};
+                                       momentumCase(),    taylorGreenCase(), archimedesCase(),
+                                       rayleighDropCase(), cubeToSphereCase(), wettingCase()};
     return all;
 }
 

@@ -259,6 +259,7 @@ RigidBodies::RigidBodies(const WorldDef& def, SolidSet& solids) {
         built.info.solid = solids.size();
         solids.add(std::move(built.surface), {}, /*coupled=*/true);
         solids.setBoundaryScale(built.info.solid, scale);
+        solids.setAdhesion(built.info.solid, b.shape.adhesion);
         infos_.push_back(std::move(built.info));
         states_.push_back(built.state);
         colliders.push_back(std::move(built.collider));

@@ -175,6 +175,7 @@ void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion, bool
     bounds_.emplace_back();
     coupled_.push_back(coupled);
     scales_.emplace_back();
+    adhesion_.push_back(0.0f);
     index_.valid = false;
     anyCoupled_ = anyCoupled_ || coupled;
     setMotion(shapes_.size() - 1, motion);
@@ -193,6 +194,8 @@ void SolidSet::setMotion(std::size_t i, const SolidMotion& motion) {
 void SolidSet::setBoundaryScale(std::size_t i, std::shared_ptr<const BoundaryScale> scale) {
     scales_.at(i) = std::move(scale);
 }
+
+void SolidSet::setAdhesion(std::size_t i, float adhesion) { adhesion_.at(i) = adhesion; }
 
 float SolidSet::boundaryScale(std::size_t i, const Vec3& p) const {
     if (!scales_[i]) return 1.0f;

@@ -86,6 +86,8 @@ double World::adaptiveSubstep(double remaining) const {
     const double speed = fastest + length(settings_.gravity) * maxDt;
     double dt = maxDt;
     if (speed > 0.0) dt = std::min(dt, s.cfl * settings_.particleSpacing() / speed);
+    // Surface tension is explicit: capillary waves limit the step (infinite when off).
+    dt = std::min(dt, double(constants_.capillaryTimeStep));
     dt = std::max(dt, frameDuration() / s.maxSubsteps);
     const double steps = std::max(1.0, std::ceil(remaining / dt - 1e-6));
     return remaining / steps;

@@ -100,6 +100,8 @@ std::string validateShape(const SolidDescription& d, const std::string& field) {
             break;
         }
     }
+    if (!(d.adhesion >= 0.0f && d.adhesion <= 1.0f))
+        return field + ".adhesion: must be in [0, 1], got " + std::to_string(d.adhesion);
     if (!finite(d.transform.rotationDegrees)) return field + ".rotation: must be finite";
     if (!finite(d.transform.translation)) return field + ".translation: must be finite";
     return {};
@@ -230,6 +232,7 @@ std::unique_ptr<SolidSet> buildSolids(const WorldDef& def) {
                 break;
             }
         }
+        set->setAdhesion(set->size() - 1, d.adhesion);
     }
     return set;
 }

@@ -170,6 +170,14 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
                                               vorticity_, density, p.velocity, b, e);
         });
     }
+    // Surface tension (issue 27): cohesion at x* and adhesion, v += dt a.
+    // Reads only x* (the ghosts' are current): no exchange of its own.
+    if (c.cohesionScale > 0.0f) {
+        forOwned([&](std::size_t b, std::size_t e) {
+            stages::applySurfaceTension(c, s.wallAdhesion, solids, dt, reactions, search_,
+                                        predicted, p.velocity, b, e);
+        });
+    }
     forOwned([&](std::size_t b, std::size_t e) {
         stages::respondToBoundaries(c, solids, s.restitution, s.friction, dt, reactions,
                                     p.predicted, p.velocity, b, e);

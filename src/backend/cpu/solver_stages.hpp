@@ -92,6 +92,17 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
                                const Float3Array& vorticity, const float* density,
                                Float3Array& velocity, std::size_t begin, std::size_t end);
 
+// Surface tension and adhesion (Akinci et al. 2013; reference::cohesionTerm,
+// reference::adhesionAcceleration): v_i += dt a_i, a_i the cohesion of the
+// neighbours at x* (`predicted`, packed) plus the pull of the walls
+// (`wallAdhesion`) and of the nearest solid (its SolidSet::adhesion). A
+// coupled solid's pull is recorded in `reactions` (may be null) as the move
+// dt^2 a; [begin, end) must then lie in one block of detail::kBlockSize.
+void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
+                         float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
+                         const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
+                         std::size_t end);
+
 // Restitution and friction against the walls of the collision box and the
 // solids (boundary::respondToWalls, boundary::respondToSolids; `solids` may
 // be null). A coupled solid's velocity change dv is recorded in `reactions`

@@ -194,4 +194,34 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
     return (viscosity * volume * c.poly6.value(lengthSquared(rij))) * (vj - vi);
 }
 
+// ---- Surface tension and adhesion (Akinci, Akinci & Teschner 2013) ----------
+//
+// Cohesion: every pair attracts with F_ij = -k m^2 C(r) r_hat_ij (eq. 1-2,
+// C the cohesion spline of eq. 3, kernels.hpp), the pair force of
+// "pairwise force SPH" (Tartakovsky & Meakin 2005): a conservative force
+// whose surface energy is sigma when k is derived from it on the rest
+// lattice (SolverConstants::cohesionScale = k m). Akinci's symmetric
+// density factor K_ij and curvature term are left out (docs/surface_tension.md
+// says why): what remains conserves momentum and angular momentum pair by
+// pair, and sigma in N/m gives the Laplace pressure 2 sigma / R.
+// The pressure it balances is PBF's density constraint (unilateral: only
+// compression is corrected), so the attraction cannot collapse the fluid.
+
+// Eq. 1-2, the term of neighbour j of the cohesion acceleration:
+// -k m C(r) (x_i - x_j) / r.
+PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij) {
+    const float r = length(rij);
+    if (!(r > 0.0f) || r >= c.h) return {};
+    return rij * (-c.cohesionScale * c.cohesion.value(r) / r);
+}
+
+// Adhesion (eq. 6 with the distance-field boundary, core/boundary.hpp): the
+// walls' and solids' weighted cohesion sum `pull` (1/m^3, into the
+// boundary) as an acceleration, k m pull. A boundary with adhesion a pulls
+// like a times the water it stands for, so the work of adhesion is a times
+// the work of cohesion 2 sigma and Young-Dupre gives cos(theta) = 2 a - 1.
+PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pull) {
+    return c.cohesionScale * pull;
+}
+
 }  // namespace pbf::reference

@@ -87,4 +87,17 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
     return eta;
 }
 
+SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
+                                          const SolidSet* solids, std::span<const Vec3> x,
+                                          NeighborIndices neighbors, std::size_t i) {
+    Vec3 cohesion{};
+    for (const std::uint32_t j : neighbors) cohesion += cohesionTerm(c, x[i] - x[j]);
+    const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, x[i]);
+    SurfaceTensionAcceleration a;
+    a.solidAcceleration = adhesionAcceleration(c, pull.solid);
+    a.total = cohesion + adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
+    a.solid = pull.solidIndex;
+    return a;
+}
+
 }  // namespace pbf::reference

@@ -58,4 +58,17 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        std::span<const Vec3> omega, std::span<const float> rho,
                        NeighborIndices neighbors, std::size_t i);
 
+// Surface tension's acceleration of particle i at the positions x (the
+// end-of-step x*): the cohesion of its neighbours plus the walls' and the
+// nearest solid's adhesion; `solidAcceleration` is the solid's part (its
+// reaction acts on a coupled solid) and `solid` which one (kNoSolid: none).
+struct SurfaceTensionAcceleration {
+    Vec3 total;
+    Vec3 solidAcceleration;
+    std::size_t solid = 0;
+};
+SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
+                                          const SolidSet* solids, std::span<const Vec3> x,
+                                          NeighborIndices neighbors, std::size_t i);
+
 }  // namespace pbf::reference

@@ -5,6 +5,7 @@
 //   iterations     rho_i, lambda_i for all; dp_i for all; x* += dp      (l. 8-19)
 //   velocity       v = (x* - x) / dt                                    (l. 21)
 //   post-process   XSPH viscosity and vorticity confinement             (l. 22)
+//   surface tension  cohesion and adhesion (Akinci et al. 2013), v += dt a
 //   wall response  restitution and friction on the walls and solids
 //   commit         x = x*                                               (l. 23)
 // and, when a solid is coupled (a rigid body), the reaction of everything
@@ -183,8 +184,20 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         }
         velocity_.swap(postVelocity_);
     }
-    // Restitution and friction on the walls and solids, then x = x* (l. 23).
     const SolverParams& s = params.solver;
+    // Surface tension and adhesion (Akinci et al. 2013) at x*, added to the
+    // velocity like confinement: the force at the new positions drives the
+    // next step (symplectic Euler).
+    if (c.cohesionScale > 0.0f) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const reference::SurfaceTensionAcceleration a = reference::surfaceTension(
+                c, s.wallAdhesion, solids, predicted_, grid_.neighbors(i), i);
+            velocity_[i] += dt * a.total;
+            if (reactions)
+                reactions->add(i, a.solid, predicted_[i], (dt * dt) * a.solidAcceleration);
+        }
+    }
+    // Restitution and friction on the walls and solids, then x = x* (l. 23).
     for (std::size_t i = 0; i < n; ++i) {
         Vec3 v =
             boundary::respondToWalls(box, s.restitution, s.friction, predicted_[i], velocity_[i]);

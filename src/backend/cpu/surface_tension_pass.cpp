@@ -1,0 +1,136 @@
+// The SIMD pass of surface tension (Akinci, Akinci & Teschner 2013): every
+// particle's cohesion from its neighbours at the end-of-step positions x*
+// plus the walls' and solids' adhesion, added to its velocity (v += dt a).
+// The scalar equations are reference::cohesionTerm and
+// reference::adhesionAcceleration (backend/reference/equations.hpp).
+// Compiled once per instruction set target like neighbor_passes.cpp.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "backend/cpu/surface_tension_pass.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <cstddef>
+
+#include "backend/cpu/simd-inl.h"
+// After simd-inl.h: the neighbour-batch helpers (per target, like it).
+#include "backend/cpu/pair_loops-inl.h"
+#include "backend/cpu/solver_stages.hpp"
+#include "backend/reference/equations.hpp"
+#include "core/boundary.hpp"
+#include "core/reactions.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace pbf::stages::HWY_NAMESPACE {
+
+namespace hn = hwy::HWY_NAMESPACE;
+using namespace pbf::simd::HWY_NAMESPACE;
+
+struct SurfaceTensionPass {
+    const SolverConstants& c;
+    float wallAdhesion;
+    const SolidSet* solids;
+    float dt;
+    ReactionAccumulator* reactions;  // null: no coupled solid
+    const NeighborSearch& search;
+    const PackedPoint* predicted;
+    const PackedPoint* neighborRecords;  // predicted + the block's list base
+    Float3Array& velocity;
+    PairConstants k;
+    FloatVec halfH;
+    FloatVec core;  // h^6 / 64 (CohesionKernel)
+};
+
+// Cohesion kernel C(r) / coefficient (kernels.hpp), zero outside the support.
+HWY_INLINE FloatVec cohesionShape(const SurfaceTensionPass& p, const PairBatch& b) {
+    const FloatVec r = hn::Mul(b.r2, b.inverseR);
+    const FloatVec dr = hn::Mul(hn::Sub(p.k.h, r), r);
+    const FloatVec cubes = hn::Mul(hn::Mul(dr, dr), dr);  // (h - r)^3 r^3
+    const FloatVec inner = hn::Sub(hn::Add(cubes, cubes), p.core);
+    return hn::IfThenElseZero(b.inside, hn::IfThenElse(hn::Gt(r, p.halfH), cubes, inner));
+}
+
+template <bool Wide>
+struct CohesionParticle {
+    FloatVec xi, yi, zi;
+    NeighborList list;
+    FloatVec ax, ay, az;
+
+    HWY_INLINE CohesionParticle(const SurfaceTensionPass& p, std::size_t i)
+        : list(p.search.neighbors(i)) {
+        const FloatTag d;
+        xi = hn::Set(d, p.predicted[i].x);
+        yi = hn::Set(d, p.predicted[i].y);
+        zi = hn::Set(d, p.predicted[i].z);
+        ax = ay = az = hn::Zero(d);
+    }
+
+    HWY_INLINE void addBatch(const SurfaceTensionPass& p, std::size_t first) {
+        const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
+        // C(r) (x_i - x_j) / r
+        const FloatVec weight = hn::Mul(cohesionShape(p, b), b.inverseR);
+        ax = hn::MulAdd(weight, b.dx, ax);
+        ay = hn::MulAdd(weight, b.dy, ay);
+        az = hn::MulAdd(weight, b.dz, az);
+    }
+
+    HWY_INLINE void finish(const SurfaceTensionPass& p, std::size_t i) const {
+        const SolverConstants& c = p.c;
+        const Vec3 x{p.predicted[i].x, p.predicted[i].y, p.predicted[i].z};
+        // -k m C (x_i - x_j) / r summed, the coefficients applied once.
+        const Vec3 cohesion = Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} *
+                              (-c.cohesionScale * c.cohesion.coefficient);
+        const boundary::AdhesionPull pull =
+            boundary::adhesionPull(c, p.wallAdhesion, p.solids, x);
+        const Vec3 solid = reference::adhesionAcceleration(c, pull.solid);
+        const Vec3 a = cohesion + reference::adhesionAcceleration(c, pull.walls) + solid;
+        p.velocity.set(i, p.velocity.get(i) + p.dt * a);
+        // Two-way coupling: a body's pull on the particle, as a move (dv dt).
+        if (p.reactions) p.reactions->add(i, pull.solidIndex, x, (p.dt * p.dt) * solid);
+    }
+};
+
+void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
+                    float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
+                    const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
+                    std::size_t end) {
+    const FloatTag d;
+    forEachListBlock(search, begin, end,
+                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
+                         const SurfaceTensionPass pass{c,
+                                                       wallAdhesion,
+                                                       solids,
+                                                       dt,
+                                                       reactions,
+                                                       search,
+                                                       predicted,
+                                                       predicted + block.base,
+                                                       velocity,
+                                                       pairConstants(c.h, c.poly6.h2),
+                                                       hn::Set(d, c.cohesion.halfH),
+                                                       hn::Set(d, c.cohesion.core)};
+                         if (block.wide)
+                             forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);
+                         else
+                             forEachParticleInterleaved<CohesionParticle<false>>(pass, first,
+                                                                                 last);
+                     });
+}
+
+}  // namespace pbf::stages::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace pbf::stages {
+
+HWY_EXPORT(SurfaceTension);
+
+void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
+                         float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
+                         const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
+                         std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(SurfaceTension)
+    (c, wallAdhesion, solids, dt, reactions, search, predicted, velocity, begin, end);
+}
+
+}  // namespace pbf::stages
+#endif  // HWY_ONCE

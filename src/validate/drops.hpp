@@ -1,0 +1,35 @@
+// Helpers of the surface-tension cases (private header): worlds made of
+// drops of any shape, and what is measured on them.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "pbf/world.hpp"
+
+namespace pbf::validation::detail {
+
+// Water (sigma 0.0728 N/m, rho0 1000 kg/m^3) without gravity in a cube of
+// side `domainSide` centred on the origin, particles of radius `radius`.
+WorldDef waterWorld(float radius, float domainSide, float surfaceTension = 0.0728f);
+
+// The sites of the rest lattice (spacing 2 r, one site at `origin`) for
+// which `inside` is true, within `bounds`.
+std::vector<Vec3> latticeSites(const WorldDef& def, const Aabb& bounds, const Vec3& origin,
+                               const std::function<bool(const Vec3&)>& inside);
+
+// A World holding exactly these particles at rest: a fluid block of one
+// lattice site at sites[0] (a world needs one), the rest added.
+World worldOf(WorldDef def, const std::vector<Vec3>& sites);
+
+// The particles' positions (memory order) and their centre.
+std::vector<Vec3> positions(const World& world);
+Vec3 centroid(const std::vector<Vec3>& x);
+
+// Connected components of the particles linked closer than `link` (m).
+std::size_t clusterCount(const std::vector<Vec3>& x, float link);
+// The smallest distance between two particles.
+double smallestPairDistance(const std::vector<Vec3>& x, float reach);
+
+}  // namespace pbf::validation::detail
