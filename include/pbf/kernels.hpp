@@ -36,6 +36,13 @@ struct Poly6Kernel {
         const float d = h2 - r2;
         return coefficient * d * d * d;
     }
+    // Gradient with respect to x_i of W(x_i - x_j), `rij` = x_i - x_j, r2 = |rij|^2:
+    // -6 coefficient (h^2 - r^2)^2 rij (surface tension's pair force, surface_tension.hpp).
+    PBF_HD Vec3 gradient(const Vec3& rij, float r2) const {
+        if (r2 >= h2) return {};
+        const float d = h2 - r2;
+        return rij * (-6.0f * coefficient * d * d);
+    }
 };
 
 // W(r) = 15 / (pi h^6) (h - r)^3 for r < h; we use its gradient
@@ -63,35 +70,6 @@ struct SpikyKernel {
         const float d = h - r;
         return rij * (gradientCoefficient * d * d / r);
     }
-};
-
-// The cohesion spline of Akinci, Akinci & Teschner 2013 ("Versatile surface
-// tension and adhesion for SPH fluids", ACM TOG 32(6), eq. 3):
-//   C(r) = 32 / (pi h^9) * (h - r)^3 r^3                 for h/2 < r <= h
-//        = 32 / (pi h^9) * (2 (h - r)^3 r^3 - h^6 / 64)  for 0 < r <= h/2
-// the profile of a pair force (positive: attraction). It is largest at
-// r = h/2 (one lattice spacing for h = 4 r) and negative (repulsive) below
-// r ~ 0.27 h, so cohesion never pulls two particles onto each other.
-struct CohesionKernel {
-    float h = 0.0f;
-    float halfH = 0.0f;
-    float coefficient = 0.0f;  // 32 / (pi h^9)
-    float core = 0.0f;         // h^6 / 64
-
-    static CohesionKernel withRadius(float radius) {
-        const double hd = radius;
-        const double h3 = hd * hd * hd;
-        return {radius, 0.5f * radius, static_cast<float>(32.0 / (std::numbers::pi * h3 * h3 * h3)),
-                static_cast<float>(h3 * h3 / 64.0)};
-    }
-    // The polynomial without its coefficient (what the SIMD pass sums).
-    PBF_HD float shape(float r) const {
-        if (r >= h || r <= 0.0f) return 0.0f;
-        const float d = h - r;
-        const float cubes = d * d * d * r * r * r;
-        return r > halfH ? cubes : 2.0f * cubes - core;
-    }
-    PBF_HD float value(float r) const { return coefficient * shape(r); }
 };
 
 }  // namespace pbf

@@ -25,9 +25,10 @@ struct WallTable {
     float inverseStep = 0.0f;              // samples per metre
     float kernelSum[kSamples + 1] = {};    // sum over wall lattice of W, 1/m^3
     float gradientSum[kSamples + 1] = {};  // |sum of spiky grad W|, 1/m^4, points into the wall
-    // |sum over the wall lattice of C(r) r_hat| (the cohesion kernel, kernels.hpp), 1/m^3,
-    // pointing into the wall: the wall's pull on a particle if it were water
-    // (adhesion, surface_tension.hpp); zero while surface tension is off.
+    // sum over the wall lattice (beyond one spacing) of (h^2 - r^2)^2 times
+    // the distance across the wall, m^5: the pull the wall would give a
+    // particle if it were water, in units of SolverConstants::cohesionScale
+    // (adhesion, backend/reference/equations.hpp).
     float cohesionSum[kSamples + 1] = {};
 };
 
@@ -48,17 +49,20 @@ struct SolverConstants {
     float scorrInverseWdq = 0.0f;  // 1 / W(dq h)
     int scorrExponent = 4;
     float overRelaxation = 1.0f;  // omega: x* += omega dp (SolverParams::overRelaxation)
-    // Surface tension (Akinci et al. 2013 cohesion, docs/surface_tension.md):
-    // a_i = -cohesionScale sum_j C(r_ij) (x_i - x_j) / r_ij, m^4/s^2. It is
-    // k m, k the pair force's strength (F_ij = -k m^2 C r_hat), derived from
-    // sigma so that the rest lattice has surface energy sigma:
-    // k = sigma / (m^2 S), S = sum over the pairs across a lattice plane of
-    // Phi(r) = int_r^h C, per unit area, halved. 0 while surface tension is off.
-    CohesionKernel cohesion;
+    // Surface tension (backend/reference/equations.hpp, "Surface tension";
+    // docs/surface_tension.md). Pairs farther apart than one spacing d attract:
+    //   a_i = -cohesionScale sum_{j: r_ij > d} (h^2 - r_ij^2)^2 (x_i - x_j),
+    // the force of the pair potential U(r) = -k m^2 W_poly6(max(r, d)) with
+    // cohesionScale = 6 c6 k m, k derived from sigma on the rest lattice. 0
+    // while surface tension is off.
     float cohesionScale = 0.0f;
-    // Largest stable substep with surface tension (the capillary wave time
-    // step of Brackbill et al. 1992, eq. 61): sqrt(rho0 dx^3 / (2 pi sigma)),
-    // dx the particle spacing; infinite while surface tension is off.
+    float cohesionMinDistance2 = 0.0f;  // d^2, m^2
+    // Largest substep with surface tension: 1 / omega_max, omega_max^2 the
+    // largest stiffness per mass of the pair potential on the rest lattice
+    // (sum over the neighbours of |U''| + 2 |U'| / r): half the stability
+    // limit 2 / omega of the explicit force. 0.26 times Brackbill et al.'s
+    // capillary time step sqrt(rho0 d^3 / (2 pi sigma)) for h = 4 r;
+    // infinite while surface tension is off.
     float capillaryTimeStep = 0.0f;
     Aabb domain;        // walls of the box
     Aabb collisionBox;  // domain shrunk by the particle radius

@@ -101,8 +101,8 @@ AdhesionPull adhesionPull(const SolverConstants& c, float wallAdhesion, const So
     if (!(distance < w.range) || !(solids->adhesion(nearest) > 0.0f)) return pull;
     float strength = solids->adhesion(nearest) * sampleWall(w.cohesionSum, w, distance);
     // A finite body: scaled like its density share (the poly6 kernel's ratio
-    // of the body to the half-space, world/boundary_scale.hpp; for the
-    // cohesion kernel an approximation that keeps corners from pulling as
+    // of the body to the half-space, world/boundary_scale.hpp; for the pull,
+    // a gradient sum, an approximation that keeps corners from pulling as
     // hard as flat walls).
     if (solids->hasBoundaryScale(nearest)) strength *= solids->boundaryScale(nearest, x);
     pull.solid = normal * -strength;

@@ -67,9 +67,9 @@ inline void addSolidContribution(const SolverConstants& c, const SolidSet* solid
 // as the rest lattice continued beyond their surface would (WallTable::
 // cohesionSum), times their adhesion (the work of adhesion in units of the
 // water's 2 sigma). `walls` is the domain walls' share, `solid` the nearest
-// solid's (index `solidIndex`, kNoSolid when none pulls): weighted sums of
-// C(r) r_hat, 1/m^3, pointing into the boundary. Zero where every adhesion
-// within reach is zero.
+// solid's (index `solidIndex`, kNoSolid when none pulls): weighted table
+// values (m^5; times SolverConstants::cohesionScale an acceleration),
+// pointing into the boundary. Zero where every adhesion within reach is zero.
 struct AdhesionPull {
     Vec3 walls;
     Vec3 solid;

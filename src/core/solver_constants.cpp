@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace pbf {
 namespace {
@@ -23,7 +22,12 @@ WallTable makeWallTable(const SolverConstants& c, double radius, double spacing)
                     const Vec3 rij{float(a * spacing), float(b * spacing), float(depth)};
                     kernelSum += c.poly6.value(lengthSquared(rij));
                     gradientSum -= c.spiky.gradient(rij, length(rij)).z;  // component into the wall
-                    cohesionSum += c.cohesion.value(length(rij)) * depth / length(rij);
+                    // Surface tension's pull: pairs beyond one spacing (equations.hpp).
+                    const double r2 = lengthSquared(rij);
+                    if (r2 > spacing * spacing && r2 < double(c.h) * c.h) {
+                        const double q = double(c.h) * c.h - r2;
+                        cohesionSum += q * q * depth;
+                    }
                 }
         }
         table.kernelSum[sample] = static_cast<float>(kernelSum);
@@ -33,44 +37,46 @@ WallTable makeWallTable(const SolverConstants& c, double radius, double spacing)
     return table;
 }
 
-// Phi(r) = int_r^h C(s) ds of the cohesion kernel: the depth of the pair
-// potential (U = -k m^2 Phi) at distance r, in closed form.
-double cohesionPotential(const CohesionKernel& kernel, double r) {
-    const double h = kernel.h;
-    if (r >= h) return 0.0;
-    // P' = (h - s)^3 s^3
-    auto P = [h](double s) {
-        return h * h * h * std::pow(s, 4) / 4.0 - 3.0 * h * h * std::pow(s, 5) / 5.0 +
-               h * std::pow(s, 6) / 2.0 - std::pow(s, 7) / 7.0;
-    };
-    const double half = 0.5 * h;
-    double integral = 0.0;
-    if (r >= half) {
-        integral = P(h) - P(r);
-    } else {
-        integral = (P(h) - P(half)) + 2.0 * (P(half) - P(r)) -
-                   std::pow(h, 6) / 64.0 * (half - r);
-    }
-    return kernel.coefficient * integral;
-}
+// The cohesion potential's two lattice sums (equations.hpp, "Surface
+// tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
+// spacing d, poly6 W):
+//  * surface: the potentials of the pairs that a plane between two layers
+//    separates, per unit area, halved, over k m^2: pulling the halves apart
+//    takes k m^2 sum W per area = 2 sigma (two new surfaces), so
+//    sigma = k m^2 S with S = sum W / (2 d^2) (1/m^5).
+//  * stiffness: sum over an interior particle's neighbours of
+//    |W''(r)| + 2 |W'(r)| / r (1/m^5): omega_max^2 = k m times it bounds
+//    the largest eigenvalue of the force's Jacobian per unit mass
+//    (Gershgorin over the pair Hessians), the explicit step's stiffness.
+struct CohesionLattice {
+    double surface = 0.0;
+    double stiffness = 0.0;
+};
 
-// S: the cohesion potentials of the pairs that a plane between two layers
-// of the rest lattice (cubic, spacing d) separates, per unit area, halved.
-// Pulling the halves apart takes k m^2 sum Phi per area = 2 sigma (two new
-// surfaces), so sigma = k m^2 S. The discrete sum is used, not the
-// continuum's (pi n^2 / 8) int r^4 C(r) dr (Kirkwood-Buff; 31 % larger for
-// h = 2 d): a drop is made of particles on this lattice.
-double latticeSurfaceSum(const CohesionKernel& kernel, double d) {
-    const int reach = static_cast<int>(std::ceil(kernel.h / d));
-    double sum = 0.0;
+CohesionLattice cohesionLattice(const Poly6Kernel& w, double d) {
+    const double h = w.h, c6 = w.coefficient;
+    const int reach = static_cast<int>(std::ceil(h / d));
+    auto W = [&](double r2) { return r2 < h * h ? c6 * std::pow(h * h - r2, 3) : 0.0; };
+    CohesionLattice lattice;
     for (int above = 0; above <= reach; ++above)
         for (int below = 1; below <= reach; ++below)
             for (int a = -reach; a <= reach; ++a)
                 for (int b = -reach; b <= reach; ++b) {
                     const double dz = (above + below) * d;
-                    sum += cohesionPotential(kernel, std::sqrt(a * a * d * d + b * b * d * d + dz * dz));
+                    lattice.surface += W(a * a * d * d + b * b * d * d + dz * dz);
                 }
-    return sum / (2.0 * d * d);
+    lattice.surface /= 2.0 * d * d;
+    for (int a = -reach; a <= reach; ++a)
+        for (int b = -reach; b <= reach; ++b)
+            for (int k = -reach; k <= reach; ++k) {
+                const double r2 = (a * a + b * b + k * k) * d * d;
+                if (r2 == 0.0 || r2 >= h * h) continue;
+                const double r = std::sqrt(r2), q = h * h - r2;
+                const double first = 6.0 * c6 * q * q * r;                        // |W'|
+                const double second = std::fabs(-6.0 * c6 * q * q + 24.0 * c6 * q * r2);  // |W''|
+                lattice.stiffness += second + 2.0 * first / r;
+            }
+    return lattice;
 }
 
 }  // namespace
@@ -82,7 +88,6 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.inverseRestDensity = 1.0f / c.restDensity;
     c.poly6 = Poly6Kernel::withRadius(c.h);
     c.spiky = SpikyKernel::withRadius(c.h);
-    c.cohesion = CohesionKernel::withRadius(c.h);
 
     // Sum the kernels over the rest lattice (cubic, spacing 2r) seen by one
     // interior particle. The mass is chosen so that this lattice has exactly
@@ -122,12 +127,20 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
 
     const float sigma = params.fluid.surfaceTension;
     c.cohesionScale = 0.0f;
+    c.cohesionMinDistance2 = static_cast<float>(d * d);
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
         const double m = c.particleMass;
-        c.cohesionScale = static_cast<float>(sigma / (m * latticeSurfaceSum(c.cohesion, d)));
-        c.capillaryTimeStep = static_cast<float>(
-            std::sqrt(double(c.restDensity) * d * d * d / (2.0 * std::numbers::pi * sigma)));
+        const CohesionLattice lattice = cohesionLattice(c.poly6, d);
+        const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
+        c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
+        c.capillaryTimeStep = static_cast<float>(1.0 / std::sqrt(k * m * lattice.stiffness));
+        // The artificial pressure is a position correction per iteration: as
+        // an acceleration it grows as 1 / dt^2, and at the capillary time
+        // step it stiffens the water into a gel (a drop stopped oscillating,
+        // docs/surface_tension.md). Surface tension keeps the surface's
+        // particles apart itself (no pull within one spacing): s_corr is off.
+        c.scorrScale = 0.0f;
     }
     return c;
 }

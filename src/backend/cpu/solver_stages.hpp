@@ -92,7 +92,7 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
                                const Float3Array& vorticity, const float* density,
                                Float3Array& velocity, std::size_t begin, std::size_t end);
 
-// Surface tension and adhesion (Akinci et al. 2013; reference::cohesionTerm,
+// Surface tension's cohesion and adhesion (reference::cohesionTerm,
 // reference::adhesionAcceleration): v_i += dt a_i, a_i the cohesion of the
 // neighbours at x* (`predicted`, packed) plus the pull of the walls
 // (`wallAdhesion`) and of the nearest solid (its SolidSet::adhesion). A

@@ -1,8 +1,8 @@
-// The SIMD pass of surface tension (Akinci, Akinci & Teschner 2013): every
-// particle's cohesion from its neighbours at the end-of-step positions x*
-// plus the walls' and solids' adhesion, added to its velocity (v += dt a).
-// The scalar equations are reference::cohesionTerm and
-// reference::adhesionAcceleration (backend/reference/equations.hpp).
+// The SIMD pass of surface tension: every particle's cohesion from its
+// neighbours at the end-of-step positions x* plus the walls' and solids'
+// adhesion, added to its velocity (v += dt a). The scalar equations are
+// reference::cohesionTerm and reference::adhesionAcceleration
+// (backend/reference/equations.hpp, "Surface tension").
 // Compiled once per instruction set target like neighbor_passes.cpp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "backend/cpu/surface_tension_pass.cpp"
@@ -36,18 +36,8 @@ struct SurfaceTensionPass {
     const PackedPoint* neighborRecords;  // predicted + the block's list base
     Float3Array& velocity;
     PairConstants k;
-    FloatVec halfH;
-    FloatVec core;  // h^6 / 64 (CohesionKernel)
+    FloatVec minDistance2;  // d^2: no pull within one spacing
 };
-
-// Cohesion kernel C(r) / coefficient (kernels.hpp), zero outside the support.
-HWY_INLINE FloatVec cohesionShape(const SurfaceTensionPass& p, const PairBatch& b) {
-    const FloatVec r = hn::Mul(b.r2, b.inverseR);
-    const FloatVec dr = hn::Mul(hn::Sub(p.k.h, r), r);
-    const FloatVec cubes = hn::Mul(hn::Mul(dr, dr), dr);  // (h - r)^3 r^3
-    const FloatVec inner = hn::Sub(hn::Add(cubes, cubes), p.core);
-    return hn::IfThenElseZero(b.inside, hn::IfThenElse(hn::Gt(r, p.halfH), cubes, inner));
-}
 
 template <bool Wide>
 struct CohesionParticle {
@@ -66,8 +56,10 @@ struct CohesionParticle {
 
     HWY_INLINE void addBatch(const SurfaceTensionPass& p, std::size_t first) {
         const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
-        // C(r) (x_i - x_j) / r
-        const FloatVec weight = hn::Mul(cohesionShape(p, b), b.inverseR);
+        // (h^2 - r^2)^2 for d < r < h
+        const FloatVec q = hn::Sub(p.k.h2, b.r2);
+        const FloatMask pulls = hn::And(b.inside, hn::Gt(b.r2, p.minDistance2));
+        const FloatVec weight = hn::IfThenElseZero(pulls, hn::Mul(q, q));
         ax = hn::MulAdd(weight, b.dx, ax);
         ay = hn::MulAdd(weight, b.dy, ay);
         az = hn::MulAdd(weight, b.dz, az);
@@ -76,9 +68,9 @@ struct CohesionParticle {
     HWY_INLINE void finish(const SurfaceTensionPass& p, std::size_t i) const {
         const SolverConstants& c = p.c;
         const Vec3 x{p.predicted[i].x, p.predicted[i].y, p.predicted[i].z};
-        // -k m C (x_i - x_j) / r summed, the coefficients applied once.
-        const Vec3 cohesion = Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} *
-                              (-c.cohesionScale * c.cohesion.coefficient);
+        // -cohesionScale (h^2 - r^2)^2 (x_i - x_j) summed, the scale applied once.
+        const Vec3 cohesion =
+            Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} * -c.cohesionScale;
         const boundary::AdhesionPull pull =
             boundary::adhesionPull(c, p.wallAdhesion, p.solids, x);
         const Vec3 solid = reference::adhesionAcceleration(c, pull.solid);
@@ -106,8 +98,7 @@ void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet
                                                        predicted + block.base,
                                                        velocity,
                                                        pairConstants(c.h, c.poly6.h2),
-                                                       hn::Set(d, c.cohesion.halfH),
-                                                       hn::Set(d, c.cohesion.core)};
+                                                       hn::Set(d, c.cohesionMinDistance2)};
                          if (block.wide)
                              forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);
                          else

@@ -194,32 +194,41 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
     return (viscosity * volume * c.poly6.value(lengthSquared(rij))) * (vj - vi);
 }
 
-// ---- Surface tension and adhesion (Akinci, Akinci & Teschner 2013) ----------
+// ---- Surface tension and adhesion -------------------------------------------
 //
-// Cohesion: every pair attracts with F_ij = -k m^2 C(r) r_hat_ij (eq. 1-2,
-// C the cohesion spline of eq. 3, kernels.hpp), the pair force of
-// "pairwise force SPH" (Tartakovsky & Meakin 2005): a conservative force
-// whose surface energy is sigma when k is derived from it on the rest
-// lattice (SolverConstants::cohesionScale = k m). Akinci's symmetric
-// density factor K_ij and curvature term are left out (docs/surface_tension.md
-// says why): what remains conserves momentum and angular momentum pair by
-// pair, and sigma in N/m gives the Laplace pressure 2 sigma / R.
-// The pressure it balances is PBF's density constraint (unilateral: only
-// compression is corrected), so the attraction cannot collapse the fluid.
+// Cohesion by a pair potential (the model family of Akinci, Akinci &
+// Teschner 2013, eq. 1-2, and of "pairwise force SPH", Tartakovsky & Meakin
+// 2005): every pair attracts with the force of
+//   U(r) = -k m^2 W_poly6(max(r, d)),  d = one particle spacing,
+// flat within one spacing as the cohesion kernel of Jeske et al. 2023
+// (min(W, W(d))): a pair gains nothing by coming closer than the rest
+// lattice's spacing, so the attraction never pulls particles into clumps,
+// the job Akinci's kernel gives its repulsive core (which, at 0.27 h, PBF's
+// particles never reach). k follows from sigma on the rest lattice
+// (SolverConstants::cohesionScale): separating two half-lattices takes
+// 2 sigma per area, so a drop has the Laplace pressure 2 sigma / R and
+// Rayleigh's frequency (docs/surface_tension.md compares the models tried).
+// The force is conservative and central: momentum and angular momentum are
+// conserved pair by pair. The pressure it meets is PBF's unilateral density
+// constraint, which only resists compression: the attraction is balanced by
+// it, never by a pull of the constraint.
 
-// Eq. 1-2, the term of neighbour j of the cohesion acceleration:
-// -k m C(r) (x_i - x_j) / r.
+// The term of neighbour j of the cohesion acceleration -dU/dx_i / m:
+// k m W'(r) r_hat = -cohesionScale (h^2 - r^2)^2 (x_i - x_j) for d < r < h.
 PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij) {
-    const float r = length(rij);
-    if (!(r > 0.0f) || r >= c.h) return {};
-    return rij * (-c.cohesionScale * c.cohesion.value(r) / r);
+    const float r2 = lengthSquared(rij);
+    if (!(r2 > c.cohesionMinDistance2) || !(r2 < c.poly6.h2)) return {};
+    const float q = c.poly6.h2 - r2;
+    return rij * (-c.cohesionScale * q * q);
 }
 
-// Adhesion (eq. 6 with the distance-field boundary, core/boundary.hpp): the
-// walls' and solids' weighted cohesion sum `pull` (1/m^3, into the
-// boundary) as an acceleration, k m pull. A boundary with adhesion a pulls
-// like a times the water it stands for, so the work of adhesion is a times
-// the work of cohesion 2 sigma and Young-Dupre gives cos(theta) = 2 a - 1.
+// Adhesion (Akinci et al. 2013, eq. 6, with the distance-field boundary of
+// core/boundary.hpp): a wall or solid pulls a particle as the rest lattice
+// continued beyond its surface would through the same pair potential,
+// weighted by its adhesion a (`pull`: the weighted WallTable::cohesionSum,
+// m^5, into the boundary). The boundary's work of adhesion is then a times
+// the water's work of cohesion 2 sigma, and Young-Dupre gives the contact
+// angle cos(theta) = 2 a - 1.
 PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pull) {
     return c.cohesionScale * pull;
 }

@@ -5,7 +5,7 @@
 //   iterations     rho_i, lambda_i for all; dp_i for all; x* += dp      (l. 8-19)
 //   velocity       v = (x* - x) / dt                                    (l. 21)
 //   post-process   XSPH viscosity and vorticity confinement             (l. 22)
-//   surface tension  cohesion and adhesion (Akinci et al. 2013), v += dt a
+//   surface tension  cohesion and adhesion (equations.hpp), v += dt a
 //   wall response  restitution and friction on the walls and solids
 //   commit         x = x*                                               (l. 23)
 // and, when a solid is coupled (a rigid body), the reaction of everything
@@ -185,7 +185,7 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         velocity_.swap(postVelocity_);
     }
     const SolverParams& s = params.solver;
-    // Surface tension and adhesion (Akinci et al. 2013) at x*, added to the
+    // Surface tension's cohesion and adhesion at x*, added to the
     // velocity like confinement: the force at the new positions drives the
     // next step (symplectic Euler).
     if (c.cohesionScale > 0.0f) {
