@@ -57,6 +57,8 @@ struct SolverConstants {
     // while surface tension is off.
     float cohesionScale = 0.0f;
     float cohesionMinDistance2 = 0.0f;  // d^2, m^2
+    int cohesionLocal = 0;  // PROTOTYPE
+    float cohesionUnderDensity = 0.0f;  // PROTOTYPE
     // Largest substep with surface tension: 1 / omega_max, omega_max^2 the
     // largest stiffness per mass of the pair potential on the rest lattice
     // (sum over the neighbours of |U''| + 2 |U'| / r): half the stability

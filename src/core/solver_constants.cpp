@@ -1,6 +1,7 @@
 #include "pbf/solver_constants.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 
 namespace pbf {
@@ -134,6 +135,23 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         const CohesionLattice lattice = cohesionLattice(c.poly6, d);
         const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
         c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
+        if (const char* e = std::getenv("PBF_LOCAL")) {
+            // PROTOTYPE: E = eps sum_i u_i (rho~0 - rho~_i), u_i = [rho_i < (1-delta) rho0]
+            c.cohesionLocal = 1;
+            c.cohesionUnderDensity = float((1.0 - std::atof(e)) * c.restDensity);
+            // deficit of the top layer per area: pairs with missing layers, K = W for r>=d
+                        double sum = 0.0;
+            for (int below = 1; below <= reach; ++below)
+                for (int a = -reach; a <= reach; ++a)
+                    for (int b = -reach; b <= reach; ++b) {
+                        const double r2 = (a * a + b * b + below * below) * d * d;
+                        if (r2 < double(c.h) * c.h) sum += double(c.poly6.coefficient) * std::pow(double(c.h) * c.h - r2, 3);
+                    }
+            const double D0 = m * sum / (d * d);
+            const double eps = sigma / D0;
+            // a_k = eps sum_j (u_k + u_j) grad K = -6 c6 eps sum (u_k+u_j) q^2 r_kj
+            c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * eps);
+        }
         c.capillaryTimeStep = static_cast<float>(1.0 / std::sqrt(k * m * lattice.stiffness));
         // The artificial pressure is a position correction per iteration: as
         // an acceleration it grows as 1 / dt^2, and at the capillary time

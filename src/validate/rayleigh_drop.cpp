@@ -24,7 +24,7 @@ namespace {
 
 constexpr double kSigma = 0.0728;  // N/m, water at 20 C
 constexpr double kRho = 1000.0;
-constexpr double kRadius = 0.005;      // m: a 1 cm drop
+double kRadius = 0.005;      // m: a 1 cm drop
 double amplitude = 0.15;    // semi-axis R (1 + e) along y, R / sqrt(1 + e) across
 float relaxViscosity = 0.3f;
 double relaxPeriods = 2.0;
@@ -182,6 +182,7 @@ CaseResult run(const Options& options) {
     std::vector<double> resolutions =
         options.quick ? std::vector<double>{4.0, 5.0, 6.0} : std::vector<double>{6.0, 8.0, 11.0};
     if (const char* v = std::getenv("PBF_RD_RES")) resolutions = {std::atof(v)};
+    if (const char* v = std::getenv("PBF_RD_R")) kRadius = std::atof(v);
     std::vector<Run> runs;
     for (const double r : resolutions) runs.push_back(runDrop(r, options));
 

@@ -173,6 +173,10 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
     // Surface tension (issue 27): cohesion at x* and adhesion, v += dt a.
     // Reads only x* (the ghosts' are current): no exchange of its own.
     if (c.cohesionScale > 0.0f) {
+        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i)
+                predicted[i].w = density[i];
+        });
         forOwned([&](std::size_t b, std::size_t e) {
             stages::applySurfaceTension(c, s.wallAdhesion, solids, dt, reactions, search_,
                                         predicted, p.velocity, b, e);

@@ -43,11 +43,12 @@ template <bool Wide>
 struct CohesionParticle {
     FloatVec xi, yi, zi;
     NeighborList list;
-    FloatVec ax, ay, az;
+    FloatVec ax, ay, az, ui;
 
     HWY_INLINE CohesionParticle(const SurfaceTensionPass& p, std::size_t i)
         : list(p.search.neighbors(i)) {
         const FloatTag d;
+        ui = hn::Set(d, p.predicted[i].w < p.c.cohesionUnderDensity ? 1.0f : 0.0f);
         xi = hn::Set(d, p.predicted[i].x);
         yi = hn::Set(d, p.predicted[i].y);
         zi = hn::Set(d, p.predicted[i].z);
@@ -59,7 +60,12 @@ struct CohesionParticle {
         // (h^2 - r^2)^2 for d < r < h
         const FloatVec q = hn::Sub(p.k.h2, b.r2);
         const FloatMask pulls = hn::And(b.inside, hn::Gt(b.r2, p.minDistance2));
-        const FloatVec weight = hn::IfThenElseZero(pulls, hn::Mul(q, q));
+        FloatVec weight = hn::IfThenElseZero(pulls, hn::Mul(q, q));
+        if (p.c.cohesionLocal) {
+            const FloatTag d;
+            const FloatVec uj = hn::IfThenElseZero(hn::Lt(b.w, hn::Set(d, p.c.cohesionUnderDensity)), hn::Set(d, 1.0f));
+            weight = hn::Mul(weight, hn::Add(ui, uj));
+        }
         ax = hn::MulAdd(weight, b.dx, ax);
         ay = hn::MulAdd(weight, b.dy, ay);
         az = hn::MulAdd(weight, b.dz, az);
