@@ -50,21 +50,26 @@ struct SolverConstants {
     int scorrExponent = 4;
     float overRelaxation = 1.0f;  // omega: x* += omega dp (SolverParams::overRelaxation)
     // Surface tension (backend/reference/equations.hpp, "Surface tension";
-    // docs/surface_tension.md). Pairs farther apart than one spacing d attract:
-    //   a_i = -cohesionScale sum_{j: r_ij > d} (h^2 - r_ij^2)^2 (x_i - x_j),
-    // the force of the pair potential U(r) = -k m^2 W_poly6(max(r, d)) with
-    // cohesionScale = 6 c6 k m, k derived from sigma on the rest lattice. 0
-    // while surface tension is off.
+    // docs/surface_tension.md); all 0 while it is off. Pairs of which at
+    // least one particle is on the surface (density below surfaceDensity)
+    // and that are farther apart than one spacing d attract:
+    //   a_i = -cohesionScale sum_j (s_i + s_j) (h^2 - r_ij^2)^2 (x_i - x_j),
+    // s = 1 on the surface, 0 inside; cohesionScale = 6 c6 epsilon, epsilon
+    // the energy per unit of missing density, from sigma (solver_constants.cpp).
     float cohesionScale = 0.0f;
     float cohesionMinDistance2 = 0.0f;  // d^2, m^2
-    int cohesionLocal = 0;  // PROTOTYPE
-    float cohesionUnderDensity = 0.0f;  // PROTOTYPE
-    // Largest substep with surface tension: 1 / omega_max, omega_max^2 the
-    // largest stiffness per mass of the pair potential on the rest lattice
-    // (sum over the neighbours of |U''| + 2 |U'| / r): half the stability
-    // limit 2 / omega of the explicit force. 0.26 times Brackbill et al.'s
-    // capillary time step sqrt(rho0 d^3 / (2 pi sigma)) for h = 4 r;
-    // infinite while surface tension is off.
+    float surfaceDensity = 0.0f;        // kg/m^3: 0.98 rho0
+    // Adhesion: a boundary pulls as the rest lattice beyond it would through
+    // the pair potential U(r) = -k m^2 W_poly6(max(r, d)) whose work of
+    // cohesion on the lattice is 2 sigma: a = adhesion adhesionScale
+    // WallTable::cohesionSum, adhesionScale = 6 c6 k m.
+    float adhesionScale = 0.0f;
+    // Largest substep with surface tension: 1 / omega_max, omega_max^2 a
+    // bound on the cohesion's stiffness per unit mass on the rest lattice
+    // (both particles of every pair on the surface: 2 epsilon sum over the
+    // neighbours of |W''| + 2 |W'| / r, Gershgorin over the pair Hessians),
+    // half the stability limit 2 / omega of the explicit force; infinite
+    // while surface tension is off.
     float capillaryTimeStep = 0.0f;
     Aabb domain;        // walls of the box
     Aabb collisionBox;  // domain shrunk by the particle radius

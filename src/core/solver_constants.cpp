@@ -1,7 +1,6 @@
 #include "pbf/solver_constants.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace pbf {
@@ -38,6 +37,20 @@ WallTable makeWallTable(const SolverConstants& c, double radius, double spacing)
     return table;
 }
 
+// A particle is on the surface when its density is 2 % below rest density:
+// the bulk's (held at rho0 by the density constraint, compressed rather
+// than stretched) never is, the outermost layer of the rest lattice misses
+// 19 %.
+constexpr double kSurfaceDeficit = 0.02;
+
+// The lattice derivation of epsilon assumes the outermost layer of the rest
+// lattice; a free surface of moving particles packs its outer layer
+// tighter (the cohesion pulls it in until the density constraint holds it),
+// missing less density, and its surface energy per area is smaller. The
+// factor is calibrated once with the Rayleigh frequency of a free drop
+// (pbf validate rayleigh_drop; docs/surface_tension.md), not per scene.
+constexpr double kCohesionCalibration = 3.0;
+
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
 // tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
 // spacing d, poly6 W):
@@ -52,6 +65,7 @@ WallTable makeWallTable(const SolverConstants& c, double radius, double spacing)
 struct CohesionLattice {
     double surface = 0.0;
     double stiffness = 0.0;
+    double topLayerDeficit = 0.0;  // sum W over the missing half seen by the outermost layer, 1/m^5
 };
 
 CohesionLattice cohesionLattice(const Poly6Kernel& w, double d) {
@@ -67,6 +81,13 @@ CohesionLattice cohesionLattice(const Poly6Kernel& w, double d) {
                     lattice.surface += W(a * a * d * d + b * b * d * d + dz * dz);
                 }
     lattice.surface /= 2.0 * d * d;
+    // The outermost layer's missing neighbours (the next layer misses none
+    // for h = 2 d), per unit area.
+    for (int below = 1; below <= reach; ++below)
+        for (int a = -reach; a <= reach; ++a)
+            for (int b = -reach; b <= reach; ++b)
+                lattice.topLayerDeficit += W(a * a * d * d + b * b * d * d + below * below * d * d);
+    lattice.topLayerDeficit /= d * d;
     for (int a = -reach; a <= reach; ++a)
         for (int b = -reach; b <= reach; ++b)
             for (int k = -reach; k <= reach; ++k) {
@@ -128,36 +149,27 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
 
     const float sigma = params.fluid.surfaceTension;
     c.cohesionScale = 0.0f;
+    c.adhesionScale = 0.0f;
     c.cohesionMinDistance2 = static_cast<float>(d * d);
+    c.surfaceDensity = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
         const double m = c.particleMass;
         const CohesionLattice lattice = cohesionLattice(c.poly6, d);
+        c.surfaceDensity = static_cast<float>((1.0 - kSurfaceDeficit) * c.restDensity);
+        // The surface energy is epsilon times the density the surface layer
+        // misses: splitting the lattice costs epsilon m topLayerDeficit per
+        // area and side, so sigma = kCohesionCalibration epsilon m deficit.
+        const double epsilon = kCohesionCalibration * sigma / (m * lattice.topLayerDeficit);
+        c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * epsilon);
+        c.capillaryTimeStep = static_cast<float>(1.0 / std::sqrt(2.0 * epsilon * lattice.stiffness));
         const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
-        c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
-        if (const char* e = std::getenv("PBF_LOCAL")) {
-            // PROTOTYPE: E = eps sum_i u_i (rho~0 - rho~_i), u_i = [rho_i < (1-delta) rho0]
-            c.cohesionLocal = 1;
-            c.cohesionUnderDensity = float((1.0 - std::atof(e)) * c.restDensity);
-            // deficit of the top layer per area: pairs with missing layers, K = W for r>=d
-                        double sum = 0.0;
-            for (int below = 1; below <= reach; ++below)
-                for (int a = -reach; a <= reach; ++a)
-                    for (int b = -reach; b <= reach; ++b) {
-                        const double r2 = (a * a + b * b + below * below) * d * d;
-                        if (r2 < double(c.h) * c.h) sum += double(c.poly6.coefficient) * std::pow(double(c.h) * c.h - r2, 3);
-                    }
-            const double D0 = m * sum / (d * d);
-            const double eps = sigma / D0;
-            // a_k = eps sum_j (u_k + u_j) grad K = -6 c6 eps sum (u_k+u_j) q^2 r_kj
-            c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * eps);
-        }
-        c.capillaryTimeStep = static_cast<float>(1.0 / std::sqrt(k * m * lattice.stiffness));
+        c.adhesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
         // The artificial pressure is a position correction per iteration: as
         // an acceleration it grows as 1 / dt^2, and at the capillary time
         // step it stiffens the water into a gel (a drop stopped oscillating,
-        // docs/surface_tension.md). Surface tension keeps the surface's
-        // particles apart itself (no pull within one spacing): s_corr is off.
+        // docs/surface_tension.md). The cohesion keeps surface particles
+        // apart itself (no pull within one spacing): s_corr is off.
         c.scorrScale = 0.0f;
     }
     return c;

@@ -170,16 +170,17 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
                                               vorticity_, density, p.velocity, b, e);
         });
     }
-    // Surface tension (issue 27): cohesion at x* and adhesion, v += dt a.
-    // Reads only x* (the ghosts' are current): no exchange of its own.
+    // Surface tension (issue 27): cohesion of the surface layer and
+    // adhesion, v += dt a. Reads x* and rho of the neighbours (the ghosts'
+    // are current): no exchange of its own.
     if (c.cohesionScale > 0.0f) {
+        PackedPoint* positionDensity = withLambda;  // (v, rho) is not read any more
         detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i)
-                predicted[i].w = density[i];
+            stages::packPositionDensities(predicted, density, positionDensity, b, e);
         });
         forOwned([&](std::size_t b, std::size_t e) {
             stages::applySurfaceTension(c, s.wallAdhesion, solids, dt, reactions, search_,
-                                        predicted, p.velocity, b, e);
+                                        positionDensity, p.velocity, b, e);
         });
     }
     forOwned([&](std::size_t b, std::size_t e) {

@@ -54,6 +54,12 @@ void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::siz
         predicted.set(i, {packed[i].x, packed[i].y, packed[i].z});
 }
 
+void packPositionDensities(const PackedPoint* predicted, const float* density,
+                           PackedPoint* positionDensity, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        positionDensity[i] = {predicted[i].x, predicted[i].y, predicted[i].z, density[i]};
+}
+
 void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
                     const float* density, Float3Array& velocity, PackedPoint* velocityDensity,
                     std::size_t begin, std::size_t end) {

@@ -92,16 +92,20 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
                                const Float3Array& vorticity, const float* density,
                                Float3Array& velocity, std::size_t begin, std::size_t end);
 
-// Surface tension's cohesion and adhesion (reference::cohesionTerm,
-// reference::adhesionAcceleration): v_i += dt a_i, a_i the cohesion of the
-// neighbours at x* (`predicted`, packed) plus the pull of the walls
-// (`wallAdhesion`) and of the nearest solid (its SolidSet::adhesion). A
-// coupled solid's pull is recorded in `reactions` (may be null) as the move
-// dt^2 a; [begin, end) must then lie in one block of detail::kBlockSize.
+// Surface tension (reference::onSurface, cohesionTerm, adhesionAcceleration):
+// v_i += dt a_i, a_i the cohesion of the surface layer from the neighbours'
+// (x*, rho) in `positionDensity` plus the pull of the walls (`wallAdhesion`)
+// and of the nearest solid (its SolidSet::adhesion). A coupled solid's pull
+// is recorded in `reactions` (may be null) as the move dt^2 a; [begin, end)
+// must then lie in one block of detail::kBlockSize.
 void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
                          float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
-                         const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
-                         std::size_t end);
+                         const PackedPoint* positionDensity, Float3Array& velocity,
+                         std::size_t begin, std::size_t end);
+
+// (x*, rho) packed for surface tension's pass.
+void packPositionDensities(const PackedPoint* predicted, const float* density,
+                           PackedPoint* positionDensity, std::size_t begin, std::size_t end);
 
 // Restitution and friction against the walls of the collision box and the
 // solids (boundary::respondToWalls, boundary::respondToSolids; `solids` may

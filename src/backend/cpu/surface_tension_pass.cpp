@@ -1,8 +1,9 @@
-// The SIMD pass of surface tension: every particle's cohesion from its
-// neighbours at the end-of-step positions x* plus the walls' and solids'
-// adhesion, added to its velocity (v += dt a). The scalar equations are
-// reference::cohesionTerm and reference::adhesionAcceleration
-// (backend/reference/equations.hpp, "Surface tension").
+// The SIMD pass of surface tension: every particle's cohesion (the pair
+// force of the surface layer) from its neighbours at the end-of-step
+// positions x* plus the walls' and solids' adhesion, added to its velocity
+// (v += dt a). The scalar equations are reference::cohesionTerm and
+// reference::adhesionAcceleration (backend/reference/equations.hpp,
+// "Surface tension and adhesion").
 // Compiled once per instruction set target like neighbor_passes.cpp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "backend/cpu/surface_tension_pass.cpp"
@@ -32,40 +33,41 @@ struct SurfaceTensionPass {
     float dt;
     ReactionAccumulator* reactions;  // null: no coupled solid
     const NeighborSearch& search;
-    const PackedPoint* predicted;
-    const PackedPoint* neighborRecords;  // predicted + the block's list base
+    const PackedPoint* positionDensity;  // (x*, rho)
+    const PackedPoint* neighborRecords;  // positionDensity + the block's list base
     Float3Array& velocity;
     PairConstants k;
-    FloatVec minDistance2;  // d^2: no pull within one spacing
+    FloatVec minDistance2;    // d^2: no pull within one spacing
+    FloatVec surfaceDensity;  // rho below which a particle is on the surface
 };
 
 template <bool Wide>
 struct CohesionParticle {
-    FloatVec xi, yi, zi;
+    FloatVec xi, yi, zi, surfaceI;
     NeighborList list;
-    FloatVec ax, ay, az, ui;
+    FloatVec ax, ay, az;
 
     HWY_INLINE CohesionParticle(const SurfaceTensionPass& p, std::size_t i)
         : list(p.search.neighbors(i)) {
         const FloatTag d;
-        ui = hn::Set(d, p.predicted[i].w < p.c.cohesionUnderDensity ? 1.0f : 0.0f);
-        xi = hn::Set(d, p.predicted[i].x);
-        yi = hn::Set(d, p.predicted[i].y);
-        zi = hn::Set(d, p.predicted[i].z);
+        const PackedPoint& x = p.positionDensity[i];
+        xi = hn::Set(d, x.x);
+        yi = hn::Set(d, x.y);
+        zi = hn::Set(d, x.z);
+        surfaceI = hn::Set(d, reference::onSurface(p.c, x.w) ? 1.0f : 0.0f);
         ax = ay = az = hn::Zero(d);
     }
 
     HWY_INLINE void addBatch(const SurfaceTensionPass& p, std::size_t first) {
+        const FloatTag d;
         const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
-        // (h^2 - r^2)^2 for d < r < h
+        // (s_i + s_j) (h^2 - r^2)^2 for d < r < h; w holds rho_j.
         const FloatVec q = hn::Sub(p.k.h2, b.r2);
         const FloatMask pulls = hn::And(b.inside, hn::Gt(b.r2, p.minDistance2));
-        FloatVec weight = hn::IfThenElseZero(pulls, hn::Mul(q, q));
-        if (p.c.cohesionLocal) {
-            const FloatTag d;
-            const FloatVec uj = hn::IfThenElseZero(hn::Lt(b.w, hn::Set(d, p.c.cohesionUnderDensity)), hn::Set(d, 1.0f));
-            weight = hn::Mul(weight, hn::Add(ui, uj));
-        }
+        const FloatVec surfaceJ =
+            hn::IfThenElseZero(hn::Lt(b.w, p.surfaceDensity), hn::Set(d, 1.0f));
+        const FloatVec weight =
+            hn::IfThenElseZero(pulls, hn::Mul(hn::Mul(q, q), hn::Add(surfaceI, surfaceJ)));
         ax = hn::MulAdd(weight, b.dx, ax);
         ay = hn::MulAdd(weight, b.dy, ay);
         az = hn::MulAdd(weight, b.dz, az);
@@ -73,8 +75,8 @@ struct CohesionParticle {
 
     HWY_INLINE void finish(const SurfaceTensionPass& p, std::size_t i) const {
         const SolverConstants& c = p.c;
-        const Vec3 x{p.predicted[i].x, p.predicted[i].y, p.predicted[i].z};
-        // -cohesionScale (h^2 - r^2)^2 (x_i - x_j) summed, the scale applied once.
+        const Vec3 x{p.positionDensity[i].x, p.positionDensity[i].y, p.positionDensity[i].z};
+        // -cohesionScale (s_i + s_j) (h^2 - r^2)^2 (x_i - x_j) summed, the scale applied once.
         const Vec3 cohesion =
             Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} * -c.cohesionScale;
         const boundary::AdhesionPull pull =
@@ -89,7 +91,7 @@ struct CohesionParticle {
 
 void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
                     float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
-                    const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
+                    const PackedPoint* positionDensity, Float3Array& velocity, std::size_t begin,
                     std::size_t end) {
     const FloatTag d;
     forEachListBlock(search, begin, end,
@@ -100,11 +102,12 @@ void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet
                                                        dt,
                                                        reactions,
                                                        search,
-                                                       predicted,
-                                                       predicted + block.base,
+                                                       positionDensity,
+                                                       positionDensity + block.base,
                                                        velocity,
                                                        pairConstants(c.h, c.poly6.h2),
-                                                       hn::Set(d, c.cohesionMinDistance2)};
+                                                       hn::Set(d, c.cohesionMinDistance2),
+                                                       hn::Set(d, c.surfaceDensity)};
                          if (block.wide)
                              forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);
                          else
@@ -123,10 +126,10 @@ HWY_EXPORT(SurfaceTension);
 
 void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
                          float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
-                         const PackedPoint* predicted, Float3Array& velocity, std::size_t begin,
-                         std::size_t end) {
+                         const PackedPoint* positionDensity, Float3Array& velocity,
+                         std::size_t begin, std::size_t end) {
     HWY_DYNAMIC_DISPATCH(SurfaceTension)
-    (c, wallAdhesion, solids, dt, reactions, search, predicted, velocity, begin, end);
+    (c, wallAdhesion, solids, dt, reactions, search, positionDensity, velocity, begin, end);
 }
 
 }  // namespace pbf::stages

@@ -196,41 +196,56 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
 
 // ---- Surface tension and adhesion -------------------------------------------
 //
-// Cohesion by a pair potential (the model family of Akinci, Akinci &
-// Teschner 2013, eq. 1-2, and of "pairwise force SPH", Tartakovsky & Meakin
-// 2005): every pair attracts with the force of
-//   U(r) = -k m^2 W_poly6(max(r, d)),  d = one particle spacing,
-// flat within one spacing as the cohesion kernel of Jeske et al. 2023
-// (min(W, W(d))): a pair gains nothing by coming closer than the rest
-// lattice's spacing, so the attraction never pulls particles into clumps,
-// the job Akinci's kernel gives its repulsive core (which, at 0.27 h, PBF's
-// particles never reach). k follows from sigma on the rest lattice
-// (SolverConstants::cohesionScale): separating two half-lattices takes
-// 2 sigma per area, so a drop has the Laplace pressure 2 sigma / R and
-// Rayleigh's frequency (docs/surface_tension.md compares the models tried).
-// The force is conservative and central: momentum and angular momentum are
-// conserved pair by pair. The pressure it meets is PBF's unilateral density
-// constraint, which only resists compression: the attraction is balanced by
-// it, never by a pull of the constraint.
+// Cohesion of the surface layer. A particle is on the surface when its
+// density is below SolverConstants::surfaceDensity (0.98 rho0: its kernel
+// misses neighbours; the density constraint holds the bulk at rho0). The
+// energy of the water is epsilon times the density its surface particles
+// miss,
+//   E = epsilon sum_i s_i (rho~0 - rho~_i),  rho~_i = m sum_j W(max(r_ij, d)),
+// s_i = 1 on the surface, 0 inside, d one particle spacing: a surface
+// particle lowers E by gathering neighbours, so the surface contracts, and
+// E of a flat surface per unit area is the surface tension. The force,
+// -grad E with s frozen for the step, is a pair force
+//   a_i = epsilon sum_j (s_i + s_j) grad W(max(r_ij, d)),
+// equal and opposite (momentum and angular momentum are conserved) and zero
+// between two particles inside the water, so surface tension adds no
+// stress to the bulk. It is the pair cohesion of Akinci, Akinci & Teschner
+// 2013 (eq. 1-2) and of "pairwise force SPH" (Tartakovsky & Meakin 2005)
+// restricted to the surface, with the kernel flat within one spacing as in
+// Jeske et al. 2023 (min(W, W(d))): no pair gains by coming closer than the
+// rest lattice's spacing, so the cohesion never pulls particles into
+// clumps. docs/surface_tension.md compares the models tried (the pair force
+// between all particles made PBF's water a jelly, a continuum surface force
+// from particle normals was 3-5 times too strong) and says how epsilon is
+// derived from sigma (SolverConstants::cohesionScale = 6 c6 epsilon).
 
-// The term of neighbour j of the cohesion acceleration -dU/dx_i / m:
-// k m W'(r) r_hat = -cohesionScale (h^2 - r^2)^2 (x_i - x_j) for d < r < h.
-PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij) {
+// Whether a particle of this density is on the surface.
+PBF_HD inline bool onSurface(const SolverConstants& c, float density) {
+    return density < c.surfaceDensity;
+}
+
+// The term of neighbour j of the cohesion acceleration,
+// epsilon (s_i + s_j) grad W_poly6 = -cohesionScale (s_i + s_j) (h^2 - r^2)^2 (x_i - x_j)
+// for d < r < h (zero otherwise).
+PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij, bool surfaceI,
+                                bool surfaceJ) {
     const float r2 = lengthSquared(rij);
     if (!(r2 > c.cohesionMinDistance2) || !(r2 < c.poly6.h2)) return {};
     const float q = c.poly6.h2 - r2;
-    return rij * (-c.cohesionScale * q * q);
+    const float pairs = float(surfaceI) + float(surfaceJ);
+    return rij * (-c.cohesionScale * pairs * q * q);
 }
 
-// Adhesion (Akinci et al. 2013, eq. 6, with the distance-field boundary of
-// core/boundary.hpp): a wall or solid pulls a particle as the rest lattice
-// continued beyond its surface would through the same pair potential,
-// weighted by its adhesion a (`pull`: the weighted WallTable::cohesionSum,
-// m^5, into the boundary). The boundary's work of adhesion is then a times
-// the water's work of cohesion 2 sigma, and Young-Dupre gives the contact
-// angle cos(theta) = 2 a - 1.
+// Adhesion (Akinci, Akinci & Teschner 2013, eq. 6, with the distance-field
+// boundary of core/boundary.hpp): a wall or solid pulls a particle as the
+// rest lattice continued beyond its surface would through the pair
+// potential U(r) = -k m^2 W_poly6(max(r, d)), weighted by its adhesion a;
+// `pull` is the weighted WallTable::cohesionSum (m^5, into the boundary). k
+// is derived from sigma so that separating two half-lattices takes 2 sigma
+// per area: the boundary's work of adhesion is a 2 sigma, and Young-Dupre
+// gives the contact angle cos(theta) = 2 a - 1.
 PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pull) {
-    return c.cohesionScale * pull;
+    return c.adhesionScale * pull;
 }
 
 }  // namespace pbf::reference

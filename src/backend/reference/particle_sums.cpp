@@ -89,13 +89,15 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
 
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
                                           const SolidSet* solids, std::span<const Vec3> x,
-                                          NeighborIndices neighbors, std::size_t i) {
-    Vec3 cohesion{};
-    for (const std::uint32_t j : neighbors) cohesion += cohesionTerm(c, x[i] - x[j]);
-    const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, x[i]);
+                                          std::span<const float> rho, NeighborIndices neighbors,
+                                          std::size_t i) {
     SurfaceTensionAcceleration a;
+    const bool surfaceI = onSurface(c, rho[i]);
+    for (const std::uint32_t j : neighbors)
+        a.total += cohesionTerm(c, x[i] - x[j], surfaceI, onSurface(c, rho[j]));
+    const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, x[i]);
     a.solidAcceleration = adhesionAcceleration(c, pull.solid);
-    a.total = cohesion + adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
+    a.total += adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
     a.solid = pull.solidIndex;
     return a;
 }

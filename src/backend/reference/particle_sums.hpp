@@ -59,9 +59,10 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        NeighborIndices neighbors, std::size_t i);
 
 // Surface tension's acceleration of particle i at the positions x (the
-// end-of-step x*): the cohesion of its neighbours plus the walls' and the
-// nearest solid's adhesion; `solidAcceleration` is the solid's part (its
-// reaction acts on a coupled solid) and `solid` which one (kNoSolid: none).
+// end-of-step x*) with the densities rho: the cohesion of the surface
+// layer plus the walls' and the nearest solid's adhesion;
+// `solidAcceleration` is the solid's part (its reaction acts on a coupled
+// solid) and `solid` which one (boundary::kNoSolid: none).
 struct SurfaceTensionAcceleration {
     Vec3 total;
     Vec3 solidAcceleration;
@@ -69,6 +70,7 @@ struct SurfaceTensionAcceleration {
 };
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
                                           const SolidSet* solids, std::span<const Vec3> x,
-                                          NeighborIndices neighbors, std::size_t i);
+                                          std::span<const float> rho, NeighborIndices neighbors,
+                                          std::size_t i);
 
 }  // namespace pbf::reference

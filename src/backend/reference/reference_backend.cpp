@@ -191,7 +191,7 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     if (c.cohesionScale > 0.0f) {
         for (std::size_t i = 0; i < n; ++i) {
             const reference::SurfaceTensionAcceleration a = reference::surfaceTension(
-                c, s.wallAdhesion, solids, predicted_, grid_.neighbors(i), i);
+                c, s.wallAdhesion, solids, predicted_, density_, grid_.neighbors(i), i);
             velocity_[i] += dt * a.total;
             if (reactions)
                 reactions->add(i, a.solid, predicted_[i], (dt * dt) * a.solidAcceleration);
