@@ -43,6 +43,12 @@ WallTable makeWallTable(const SolverConstants& c, double radius, double spacing)
 // 19 %.
 constexpr double kSurfaceDeficit = 0.02;
 
+// Surface particles closer than this many spacings repel (equations.hpp):
+// without it, and without s_corr, two surface particles could sit on top of
+// each other (the density constraint does not separate them where the
+// density is below rest).
+constexpr double kCoreDistance = 0.8;
+
 // The lattice derivation of epsilon assumes the outermost layer of the rest
 // lattice; a free surface of moving particles packs its outer layer
 // tighter (the cohesion pulls it in until the density constraint holds it),
@@ -151,6 +157,9 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.cohesionScale = 0.0f;
     c.adhesionScale = 0.0f;
     c.cohesionMinDistance2 = static_cast<float>(d * d);
+    const double core = kCoreDistance * d;
+    c.cohesionCoreDistance2 = static_cast<float>(core * core);
+    c.cohesionCoreScale = static_cast<float>(std::pow(double(c.h) * c.h - d * d, 2) / std::pow(core, 4));
     c.surfaceDensity = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {

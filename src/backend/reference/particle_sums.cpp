@@ -93,11 +93,12 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                                           std::size_t i) {
     SurfaceTensionAcceleration a;
     const bool surfaceI = onSurface(c, rho[i]);
+    Vec3 cohesion{};
     for (const std::uint32_t j : neighbors)
-        a.total += cohesionTerm(c, x[i] - x[j], surfaceI, onSurface(c, rho[j]));
+        cohesion += cohesionTerm(c, x[i] - x[j], surfaceI, onSurface(c, rho[j]));
     const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, x[i]);
     a.solidAcceleration = adhesionAcceleration(c, pull.solid);
-    a.total += adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
+    a.total = cohesion + adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
     a.solid = pull.solidIndex;
     return a;
 }

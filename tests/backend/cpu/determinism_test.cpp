@@ -90,4 +90,21 @@ TEST(Determinism, AccuracyOptionsGiveIdenticalBitsOnOneAndTwoThreads) {
     ASSERT_EQ(one.solveAcceleration.x.size(), one.size()) << "the warm start kept nothing";
 }
 
+// Surface tension (its SIMD pass reads x* and the densities of the
+// neighbours and writes each particle's velocity) with adhesion on the
+// domain walls: the dam break's surface particles pull, and the floor and
+// walls pull back. The coarse dam break's spacing makes the capillary time
+// step long, so the fixed 1/240 s steps are within it.
+TEST(Determinism, SurfaceTensionGivesIdenticalBitsOnOneAndTwoThreads) {
+    const std::vector<std::string> options{"fluid.surface_tension=0.0728",
+                                           "solver.wall_adhesion=0.6"};
+    const pbf::ParticleStore one = runSteps(1, 80, 65536, options);
+    const pbf::ParticleStore two = runSteps(2, 80, 65536, options);
+    const pbf::ParticleStore off = runSteps(2, 80, 65536);
+    pbf::setThreadCount(pbf::hardwareThreadCount());
+    expectIdenticalBits(one, two);
+    // Surface tension changed the flow (the pass ran).
+    EXPECT_NE(one.position.x, off.position.x);
+}
+
 }  // namespace

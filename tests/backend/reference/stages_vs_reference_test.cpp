@@ -34,6 +34,9 @@
 //       dp term   (lambda_i + lambda_j + s_corr) m/rho0 cS (h - r)^2 / r dx   k = 6
 //       XSPH term c 2m c6 (h^2 - r^2)^3 / (rho_i + rho_j) (v_j - v_i)       k = 7
 //       omega     m/rho_j cS (h - r)^2 / r dx (one factor of the cross product) k = 7
+//       cohesion  S (s_i + s_j) (h^2 - r^2)^2 dx, S = cohesionScale         k = 4
+//                 (ref: S pairs, q, q, times dx; simd: q q, pairs, S after the sum)
+//       its core  S (s_i + s_j) L (r_c^2 - r^2)^2 dx                       k = 6
 //   * Cancellation in the kernels' arguments: r^2 = dx^2 + dy^2 + dz^2 has
 //     relative error gamma_3 (positive terms, any order, with or without FMA),
 //     so h^2 - r^2 has the absolute error gamma_3 r^2 + u |h^2 - r^2|, which
@@ -49,6 +52,12 @@
 //     eps_inv = (1 + eps_rs)(1 + gamma_3) - 1, and r = r^2 / sqrt(r^2) the
 //     same plus one rounding; the reference's sqrt and division are inside
 //     these. h - r is propagated like h^2 - r^2.
+//   * Surface tension's cohesion acts between d < r < h (d one spacing): a
+//     pair with r^2 within rounding of d^2 is ambiguous like one at h, but
+//     its term is not small; it is added whole to E (such pairs are rare in
+//     random clouds). Both implementations get the same densities (so the
+//     same surface flags s) and the same adhesion (core/boundary.hpp on the
+//     same x), added in the same order; v + dt a rounds twice.
 //   * Pairs at r ~ h: the lists and the kernels' support tests compare the
 //     rounded r^2 with h^2, so a pair with |r^2 - h^2| within the rounding
 //     may be counted by one implementation and not the other. Such pairs add
@@ -179,6 +188,7 @@ Cloud solidCloud(std::size_t n) {
     Cloud cloud{"solids", cloudParams(), std::make_unique<SolidSet>(), {}, {}};
     cloud.solids->add(makeSphereSolid({0.2f, 0.2f, 0.25f}, 0.07f));
     cloud.solids->add(makeBoxSolid({{0.28f, 0.12f, 0.18f}, {0.36f, 0.3f, 0.32f}}));
+    cloud.solids->setAdhesion(0, 0.5f);  // surface tension's pull (the box has none)
     std::mt19937 rng(4);
     const float r = cloud.params.particleRadius;
     const float side = std::cbrt(float(n)) * cloud.params.particleSpacing();
@@ -202,7 +212,18 @@ struct SimdResults {
     std::vector<Vec3> velocity;      // (x* - x) / dt
     std::vector<Vec3> xsphVelocity;  // after XSPH
     std::vector<Vec3> vorticity;
+    std::vector<Vec3> surfaceTensionVelocity;  // (x* - x) / dt + dt a_surface
 };
+
+// Surface tension on the clouds: water's sigma, adhesion on the walls and on
+// the first solid, so that the walls' and solids' pulls are compared too.
+constexpr float kWallAdhesion = 0.7f;
+
+SolverConstants surfaceTensionConstants(const Cloud& cloud) {
+    SimulationParams params = cloud.params;
+    params.fluid.surfaceTension = 0.0728f;
+    return SolverConstants::from(params);
+}
 
 // Calls a stage over [0, n) in ranges that do not follow the 1024-particle
 // list blocks (the stages split them at block boundaries themselves).
@@ -254,6 +275,23 @@ SimdResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
                                                   predicted.data(), velocityDensity.data(),
                                                   &vorticity, velocity, b, e);
     });
+    // Surface tension at the uncorrected x*, from v = (x* - x) / dt, with the
+    // density pass's densities (the reference gets the same ones).
+    {
+        const SolverConstants cs = surfaceTensionConstants(cloud);
+        Float3Array surfaceVelocity;
+        surfaceVelocity.resize(n);
+        std::vector<PackedPoint> positionDensity(n);
+        for (std::size_t i = 0; i < n; ++i)
+            surfaceVelocity.set(i, {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
+        stages::packPositionDensities(predicted.data(), out.density.data(), positionDensity.data(), 0, n);
+        inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
+            stages::applySurfaceTension(cs, kWallAdhesion, solids, kDt, nullptr, search,
+                                        positionDensity.data(), surfaceVelocity, b, e);
+        });
+        for (std::size_t i = 0; i < n; ++i)
+            out.surfaceTensionVelocity.push_back(surfaceVelocity.get(i));
+    }
     for (std::size_t i = 0; i < n; ++i) {
         out.lambda.push_back(withLambda[i].w);
         out.corrected.push_back({corrected[i].x, corrected[i].y, corrected[i].z});
@@ -269,11 +307,13 @@ SimdResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
 
 struct ReferenceResults {
     std::vector<float> density, lambda;
-    std::vector<Vec3> dp, velocity, xsphVelocity, vorticity;
+    std::vector<Vec3> dp, velocity, xsphVelocity, vorticity, surfaceTensionVelocity;
 };
 
+// `simdDensity`: the densities surface tension is given (both get the same).
 ReferenceResults runReference(const Cloud& cloud, const SolverConstants& c,
-                              const std::vector<Vec3>& x, const std::vector<Vec3>& xStar) {
+                              const std::vector<Vec3>& x, const std::vector<Vec3>& xStar,
+                              const std::vector<float>& simdDensity) {
     const std::size_t n = xStar.size();
     reference::NeighborGrid grid(cloud.params.domain, c.h);
     grid.build(xStar);
@@ -295,6 +335,12 @@ ReferenceResults runReference(const Cloud& cloud, const SolverConstants& c,
         r.vorticity.push_back(
             reference::vorticity(c, xStar, r.velocity, r.density, grid.neighbors(i), i));
     }
+    const SolverConstants cs = surfaceTensionConstants(cloud);
+    for (std::size_t i = 0; i < n; ++i) {
+        const reference::SurfaceTensionAcceleration a = reference::surfaceTension(
+            cs, kWallAdhesion, cloud.solids.get(), xStar, simdDensity, grid.neighbors(i), i);
+        r.surfaceTensionVelocity.push_back(r.velocity[i] + kDt * a.total);
+    }
     return r;
 }
 
@@ -315,7 +361,7 @@ struct Pair {
 struct Model {
     std::vector<std::vector<Pair>> pairs;
     std::vector<Bound> density, lambda, boundaryKernel;
-    std::vector<Bound3> dp, velocity, xsphVelocity, vorticity;
+    std::vector<Bound3> dp, velocity, xsphVelocity, vorticity, surfaceTensionVelocity;
     std::vector<Vec3> boundaryGradient;  // shared float (same function, same x)
 };
 
@@ -327,7 +373,7 @@ Bound pairTerm(const Pair& pair, Bound term) {
 }
 
 Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector<Vec3>& x,
-                 const std::vector<Vec3>& xStar) {
+                 const std::vector<Vec3>& xStar, const std::vector<float>& simdDensity) {
     const std::size_t n = xStar.size();
     const double h = c.h, h2 = c.poly6.h2;
     const double epsRsqrt = 7.0 * kU;
@@ -454,6 +500,59 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
         model.xsphVelocity.push_back(vNew);
         model.vorticity.push_back(om);
     }
+
+    // Surface tension: the cohesion -S (s_i + s_j) w(r) dx with the same
+    // surface flags, w = (h^2 - r^2)^2 for d < r < h and -L (r_c^2 - r^2)^2
+    // below r_c, plus the shared adhesion.
+    const SolverConstants cs = surfaceTensionConstants(cloud);
+    const double cohesionScale = cs.cohesionScale, d2 = cs.cohesionMinDistance2;
+    const double rc2 = cs.cohesionCoreDistance2, coreScale = cs.cohesionCoreScale;
+    for (std::size_t i = 0; i < n; ++i) {
+        const int surfaceI = reference::onSurface(cs, simdDensity[i]) ? 1 : 0;
+        std::vector<Bound> terms[3];
+        for (const Pair& p : model.pairs[i]) {
+            const int pairs = surfaceI + (reference::onSurface(cs, simdDensity[p.j]) ? 1 : 0);
+            if (pairs == 0) continue;
+            const double edge = 4.0 * (epsR + gamma(3));
+            const Bound r2{p.r2, gamma(3) * p.r2};
+            // The pull beyond d (a jump there: a pair at the edge adds its whole term).
+            const bool beyond = p.r2 > d2;
+            const bool atD = std::fabs(p.r2 - d2) <= edge * d2;
+            if (beyond || atD) {
+                const Bound q = rounded(sub(exact(h2), r2), 1);
+                const Bound q2 = mul(q, q);
+                for (int a = 0; a < 3; ++a) {
+                    Bound t = pairTerm(p, rounded(scale(q2, -cohesionScale * pairs * p.dx[a]), 4));
+                    if (atD) t = {beyond ? t.v : 0.0, std::fabs(t.v) + t.e};
+                    terms[a].push_back(t);
+                }
+            }
+            // The core below r_c (zero at r_c: no jump).
+            const bool inside = p.r2 < rc2;
+            const bool atCore = std::fabs(p.r2 - rc2) <= edge * rc2;
+            if (inside || atCore) {
+                const Bound core = rounded(sub(exact(rc2), r2), 1);
+                const Bound w = scale(mul(core, core), -coreScale);
+                for (int a = 0; a < 3; ++a) {
+                    Bound t = rounded(scale(w, -cohesionScale * pairs * p.dx[a]), 6);
+                    if (atCore) t = {inside ? t.v : 0.0, std::fabs(t.v) + t.e};
+                    terms[a].push_back(t);
+                }
+            }
+        }
+        const boundary::AdhesionPull pull =
+            boundary::adhesionPull(cs, kWallAdhesion, cloud.solids.get(), xStar[i]);
+        const Vec3 walls = reference::adhesionAcceleration(cs, pull.walls);
+        const Vec3 solid = reference::adhesionAcceleration(cs, pull.solid);
+        Bound3 vNew;
+        for (int a = 0; a < 3; ++a) {
+            const Bound cohesion = sum(terms[a]);
+            const Bound acceleration =
+                rounded(add(rounded(add(cohesion, exact(walls[a])), 1), exact(solid[a])), 1);
+            vNew[a] = rounded(add(model.velocity[i][a], rounded(scale(acceleration, kDt), 1)), 1);
+        }
+        model.surfaceTensionVelocity.push_back(vNew);
+    }
     return model;
 }
 
@@ -523,10 +622,10 @@ TEST_P(SimdVsReference, AgreeWithinTheDerivedBounds) {
         x[i] = simd.particles.position.get(i);
         xStar[i] = simd.particles.predicted.get(i);
     }
-    const ReferenceResults ref = runReference(cloud, c, x, xStar);
-    const Model model = buildModel(cloud, c, x, xStar);
+    const ReferenceResults ref = runReference(cloud, c, x, xStar, simd.density);
+    const Model model = buildModel(cloud, c, x, xStar, simd.density);
 
-    Agreement density, lambda, dp, velocity, xsph, vorticity;
+    Agreement density, lambda, dp, velocity, xsph, vorticity, surface;
     std::size_t skippedAtSolids = 0, active = 0;
     for (std::size_t i = 0; i < n; ++i) {
         density.check(i, "rho", simd.density[i], ref.density[i], model.density[i].v,
@@ -569,6 +668,9 @@ TEST_P(SimdVsReference, AgreeWithinTheDerivedBounds) {
                        model.xsphVelocity[i][a].v, model.xsphVelocity[i][a].e);
             vorticity.check(i, "omega", simd.vorticity[i][a], ref.vorticity[i][a],
                             model.vorticity[i][a].v, model.vorticity[i][a].e);
+            surface.check(i, "v + dt a_surface", simd.surfaceTensionVelocity[i][a],
+                          ref.surfaceTensionVelocity[i][a], model.surfaceTensionVelocity[i][a].v,
+                          model.surfaceTensionVelocity[i][a].e);
         }
 
     std::printf("  %s, %zu particles, %s lists: %zu with lambda < 0, %zu skipped at solids\n",
@@ -580,8 +682,14 @@ TEST_P(SimdVsReference, AgreeWithinTheDerivedBounds) {
     report(cloud.name, "velocity", velocity);
     report(cloud.name, "xsph", xsph);
     report(cloud.name, "vorticity", vorticity);
+    report(cloud.name, "surface", surface);
     // The clouds exercise what they are meant to.
     EXPECT_GT(active, n / 10) << "too few compressed particles to test lambda and dp";
+    const SolverConstants cs = surfaceTensionConstants(cloud);
+    const auto surfaceParticles = std::count_if(simd.density.begin(), simd.density.end(),
+                                                [&](float rho) { return reference::onSurface(cs, rho); });
+    EXPECT_GT(std::size_t(surfaceParticles), n / 20) << "too few surface particles to test cohesion";
+    EXPECT_LT(std::size_t(surfaceParticles), n - n / 10) << "too few inner particles to test cohesion";
     EXPECT_LT(skippedAtSolids, n / 4);
 }
 
