@@ -56,13 +56,14 @@ struct SolverConstants {
     //   a_i = -cohesionScale sum_j (s_i + s_j) (h^2 - r_ij^2)^2 (x_i - x_j),
     // s = 1 on the surface, 0 inside; cohesionScale = 6 c6 epsilon, epsilon
     // the energy per unit of missing density, from sigma (solver_constants.cpp).
-    // Closer than the core distance r_c (0.8 d) the pair repels, with the
-    // weight -coreScale (r_c^2 - r^2)^2 (coreScale = (h^2 - d^2)^2 / r_c^4,
-    // the pull's weight at d at r = 0): what keeps surface particles apart
+    // Closer than the core distance r_c (0.8 d) every pair repels, with the
+    // weight -2 coreScale (r_c - r)^2 / r (coreScale: a push at r = 0 ten
+    // times the largest pull, 2 (h^2 - d^2)^2 d): what keeps particles apart
     // (s_corr's job, off with surface tension).
     float cohesionScale = 0.0f;
     float cohesionMinDistance2 = 0.0f;   // d^2, m^2
     float cohesionCoreDistance2 = 0.0f;  // r_c^2, m^2
+    float cohesionCoreDistance = 0.0f;   // r_c, m
     float cohesionCoreScale = 0.0f;      // 1
     float surfaceDensity = 0.0f;        // kg/m^3: 0.98 rho0
     // Adhesion: a boundary pulls as the rest lattice beyond it would through

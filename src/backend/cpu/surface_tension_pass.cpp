@@ -39,7 +39,8 @@ struct SurfaceTensionPass {
     PairConstants k;
     FloatVec minDistance2;    // d^2: no pull within one spacing
     FloatVec coreDistance2;   // r_c^2: pushed apart within it
-    FloatVec coreScale;
+    FloatVec coreDistance;
+    FloatVec minusTwoCoreScale;
     FloatVec surfaceDensity;  // rho below which a particle is on the surface
 };
 
@@ -63,17 +64,18 @@ struct CohesionParticle {
     HWY_INLINE void addBatch(const SurfaceTensionPass& p, std::size_t first) {
         const FloatTag d;
         const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
-        // (s_i + s_j) w(r) (reference::cohesionWeight); w holds rho_j.
+        // reference::cohesionWeight; w holds rho_j.
         const FloatVec q = hn::Sub(p.k.h2, b.r2);
-        const FloatVec core = hn::Sub(p.coreDistance2, b.r2);
+        const FloatVec r = hn::Mul(b.r2, b.inverseR);
+        const FloatVec coreGap = hn::Sub(p.coreDistance, r);
+        const FloatVec core = hn::Mul(hn::Mul(coreGap, coreGap), b.inverseR);
         const FloatMask pulls = hn::And(b.inside, hn::Gt(b.r2, p.minDistance2));
         const FloatMask pushes = hn::And(b.inside, hn::Lt(b.r2, p.coreDistance2));
-        const FloatVec shape = hn::IfThenElse(
-            pushes, hn::Mul(hn::Neg(p.coreScale), hn::Mul(core, core)),
-            hn::IfThenElseZero(pulls, hn::Mul(q, q)));
         const FloatVec surfaceJ =
             hn::IfThenElseZero(hn::Lt(b.w, p.surfaceDensity), hn::Set(d, 1.0f));
-        const FloatVec weight = hn::Mul(shape, hn::Add(surfaceI, surfaceJ));
+        const FloatVec weight = hn::IfThenElse(
+            pushes, hn::Mul(p.minusTwoCoreScale, core),
+            hn::IfThenElseZero(pulls, hn::Mul(hn::Mul(q, q), hn::Add(surfaceI, surfaceJ))));
         ax = hn::MulAdd(weight, b.dx, ax);
         ay = hn::MulAdd(weight, b.dy, ay);
         az = hn::MulAdd(weight, b.dz, az);
@@ -114,7 +116,8 @@ void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet
                                                        pairConstants(c.h, c.poly6.h2),
                                                        hn::Set(d, c.cohesionMinDistance2),
                                                        hn::Set(d, c.cohesionCoreDistance2),
-                                                       hn::Set(d, c.cohesionCoreScale),
+                                                       hn::Set(d, c.cohesionCoreDistance),
+                                                       hn::Set(d, -2.0f * c.cohesionCoreScale),
                                                        hn::Set(d, c.surfaceDensity)};
                          if (block.wide)
                              forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);

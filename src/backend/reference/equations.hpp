@@ -214,7 +214,7 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
 // restricted to the surface, with the kernel flat within one spacing as in
 // Jeske et al. 2023 (min(W, W(d))): no pair gains by coming closer than the
 // rest lattice's spacing, so the cohesion never pulls particles into
-// clumps; closer than 0.8 d a core pushes surface pairs apart (the job of
+// clumps; closer than 0.8 d a core pushes every pair apart (the job of
 // Akinci's repulsive core and of PBF's s_corr). docs/surface_tension.md compares the models tried (the pair force
 // between all particles made PBF's water a jelly, a continuum surface force
 // from particle normals was 3-5 times too strong) and says how epsilon is
@@ -225,26 +225,32 @@ PBF_HD inline bool onSurface(const SolverConstants& c, float density) {
     return density < c.surfaceDensity;
 }
 
-// The pair weight w(r): (h^2 - r^2)^2 for d < r < h (the pull, the
+// The pair weight: (s_i + s_j) (h^2 - r^2)^2 for d < r < h (the pull, the
 // gradient of W_poly6 without -6 c6 r), 0 between r_c and d (the kernel's
-// flat top), and -coreScale (r_c^2 - r^2)^2 below the core distance r_c
-// (a push apart: two surface particles never sit on one another).
-PBF_HD inline float cohesionWeight(const SolverConstants& c, float r2) {
+// flat top), and -2 coreScale (r_c - r)^2 / r below the core distance r_c
+// for every pair, inside the water too: a push apart, so that no two
+// particles sit on one another. It takes over the job of s_corr (off with
+// surface tension: without either, PBF pairs particles up) as a force,
+// whose strength does not depend on the time step.
+PBF_HD inline float cohesionWeight(const SolverConstants& c, float r2, bool surfaceI,
+                                   bool surfaceJ) {
     if (r2 < c.cohesionCoreDistance2) {
-        const float core = c.cohesionCoreDistance2 - r2;
-        return -c.cohesionCoreScale * core * core;
+        // (r_c - r)^2 / r: times (x_i - x_j) a push of (r_c - r)^2, not
+        // vanishing as r -> 0 (the spiky kernel's reason, Mueller et al. 2003).
+        const float r = std::sqrt(r2);
+        const float core = c.cohesionCoreDistance - r;
+        return r > 0.0f ? -2.0f * c.cohesionCoreScale * core * core / r : 0.0f;
     }
     if (!(r2 > c.cohesionMinDistance2) || !(r2 < c.poly6.h2)) return 0.0f;
     const float q = c.poly6.h2 - r2;
-    return q * q;
+    return (float(surfaceI) + float(surfaceJ)) * (q * q);
 }
 
 // The term of neighbour j of the cohesion acceleration,
-// epsilon (s_i + s_j) grad W = -cohesionScale (s_i + s_j) w(r) (x_i - x_j).
+// epsilon (s_i + s_j) grad W (and the core) = -cohesionScale weight (x_i - x_j).
 PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij, bool surfaceI,
                                 bool surfaceJ) {
-    const float pairs = float(surfaceI) + float(surfaceJ);
-    return rij * (-c.cohesionScale * pairs * cohesionWeight(c, lengthSquared(rij)));
+    return rij * (-c.cohesionScale * cohesionWeight(c, lengthSquared(rij), surfaceI, surfaceJ));
 }
 
 // Adhesion (Akinci, Akinci & Teschner 2013, eq. 6, with the distance-field

@@ -36,7 +36,7 @@
 //       omega     m/rho_j cS (h - r)^2 / r dx (one factor of the cross product) k = 7
 //       cohesion  S (s_i + s_j) (h^2 - r^2)^2 dx, S = cohesionScale         k = 4
 //                 (ref: S pairs, q, q, times dx; simd: q q, pairs, S after the sum)
-//       its core  S (s_i + s_j) L (r_c^2 - r^2)^2 dx                       k = 6
+//       its core  S 2 L (r_c^2 - r^2)^2 dx (every pair)                    k = 6
 //   * Cancellation in the kernels' arguments: r^2 = dx^2 + dy^2 + dz^2 has
 //     relative error gamma_3 (positive terms, any order, with or without FMA),
 //     so h^2 - r^2 has the absolute error gamma_3 r^2 + u |h^2 - r^2|, which
@@ -512,13 +512,12 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
         std::vector<Bound> terms[3];
         for (const Pair& p : model.pairs[i]) {
             const int pairs = surfaceI + (reference::onSurface(cs, simdDensity[p.j]) ? 1 : 0);
-            if (pairs == 0) continue;
             const double edge = 4.0 * (epsR + gamma(3));
             const Bound r2{p.r2, gamma(3) * p.r2};
             // The pull beyond d (a jump there: a pair at the edge adds its whole term).
             const bool beyond = p.r2 > d2;
             const bool atD = std::fabs(p.r2 - d2) <= edge * d2;
-            if (beyond || atD) {
+            if ((beyond || atD) && pairs > 0) {
                 const Bound q = rounded(sub(exact(h2), r2), 1);
                 const Bound q2 = mul(q, q);
                 for (int a = 0; a < 3; ++a) {
@@ -532,9 +531,9 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
             const bool atCore = std::fabs(p.r2 - rc2) <= edge * rc2;
             if (inside || atCore) {
                 const Bound core = rounded(sub(exact(rc2), r2), 1);
-                const Bound w = scale(mul(core, core), -coreScale);
+                const Bound w = scale(mul(core, core), -2.0 * coreScale);
                 for (int a = 0; a < 3; ++a) {
-                    Bound t = rounded(scale(w, -cohesionScale * pairs * p.dx[a]), 6);
+                    Bound t = rounded(scale(w, -cohesionScale * p.dx[a]), 6);
                     if (atCore) t = {inside ? t.v : 0.0, std::fabs(t.v) + t.e};
                     terms[a].push_back(t);
                 }
