@@ -13,11 +13,13 @@ Case archimedesCase();
 Case rayleighDropCase();
 Case cubeToSphereCase();
 Case wettingCase();
+Case laplaceCase();
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(), freeFallCase(),
                                        momentumCase(),    taylorGreenCase(), archimedesCase(),
-                                       rayleighDropCase(), cubeToSphereCase(), wettingCase()};
+                                       rayleighDropCase(), cubeToSphereCase(), laplaceCase(),
+                                       wettingCase()};
     return all;
 }
 

@@ -8,6 +8,7 @@
 #   * a scene with an emitter, a solid, XSPH and vorticity confinement
 #     (every halo exchange) on 2 ranks, also over TCP on loopback
 #     (--mca btl tcp,self: the transport two hosts use);
+#   * surface tension with adhesion (walls and a solid) on 2 ranks;
 #   * checkpoints: 2 ranks stop at frame 8, 3 ranks and 1 process resume to
 #     the end: frames equal the uninterrupted one-process run's;
 #   * summary.json has "ranks" and "rank_particles" adding up to "particles".
@@ -106,6 +107,15 @@ echo "emitter + solid + vorticity, 2 ranks: $(same_frames "$work/pour1" "$work/p
     -np 2 "$pbf" "${pour[@]}" --out "$work/pour_tcp" > "$work/pour_tcp.log" 2>&1 ||
     { cat "$work/pour_tcp.log"; fail "2 ranks over TCP failed"; }
 echo "over TCP (loopback), 2 ranks: $(same_frames "$work/pour1" "$work/pour_tcp") frames bit-identical"
+
+# Surface tension with adhesion on the walls and a solid: its pass reads the
+# ghosts' x* and densities (exchanged for the density constraint already).
+tension=(run "$src/tests/data/mpi_surface_tension.json" -q --no-plot --render none
+         --checkpoint-every 0 --checkpoint-seconds 0)
+"$pbf" "${tension[@]}" --out "$work/tension1" > /dev/null
+"${mpi[@]}" -np 2 "$pbf" "${tension[@]}" --out "$work/tension2" > "$work/tension2.log" 2>&1 ||
+    { cat "$work/tension2.log"; fail "surface tension scene on 2 ranks failed"; }
+echo "surface tension + adhesion, 2 ranks: $(same_frames "$work/tension1" "$work/tension2") frames bit-identical"
 
 # Checkpoints across rank counts.
 "${mpi[@]}" -np 2 "$pbf" "${base[@]}" --frames 8 --out "$work/resume3" > "$work/ck.log" 2>&1 ||
