@@ -65,7 +65,7 @@ struct SolverConstants {
     float cohesionCoreDistance2 = 0.0f;  // r_c^2, m^2
     float cohesionCoreDistance = 0.0f;   // r_c, m
     float cohesionCoreScale = 0.0f;      // 1
-    float surfaceDensity = 0.0f;        // kg/m^3: 0.98 rho0
+    float surfaceDensity = 0.0f;         // kg/m^3: 0.98 rho0
     // Adhesion: a boundary pulls as the rest lattice beyond it would through
     // the pair potential U(r) = -k m^2 W_poly6(max(r, d)) whose work of
     // cohesion on the lattice is 2 sigma: a = adhesion adhesionScale

@@ -65,7 +65,8 @@ void bindDescription(py::module_& m) {
         .def_property("restitution", floatGetter(&RigidBodyDescription::restitution),
                       floatSetter(&RigidBodyDescription::restitution), "[0, 1]")
         .def_property(
-            "adhesion", [](const RigidBodyDescription& b) { return shortestDouble(b.shape.adhesion); },
+            "adhesion",
+            [](const RigidBodyDescription& b) { return shortestDouble(b.shape.adhesion); },
             [](RigidBodyDescription& b, float a) { b.shape.adhesion = a; },
             "wetting with surface tension (shape.adhesion), [0, 1]")
         .def_readwrite("field", &RigidBodyDescription::field,

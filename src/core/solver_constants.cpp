@@ -101,7 +101,7 @@ CohesionLattice cohesionLattice(const Poly6Kernel& w, double d) {
                 const double r2 = (a * a + b * b + k * k) * d * d;
                 if (r2 == 0.0 || r2 >= h * h) continue;
                 const double r = std::sqrt(r2), q = h * h - r2;
-                const double first = 6.0 * c6 * q * q * r;                        // |W'|
+                const double first = 6.0 * c6 * q * q * r;                                // |W'|
                 const double second = std::fabs(-6.0 * c6 * q * q + 24.0 * c6 * q * r2);  // |W''|
                 lattice.stiffness += second + 2.0 * first / r;
             }
@@ -162,8 +162,8 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.cohesionCoreDistance2 = static_cast<float>(core * core);
     c.cohesionCoreDistance = static_cast<float>(core);
     // 2 coreScale r_c^2 = kCoreStrength x 2 (h^2 - d^2)^2 d.
-    c.cohesionCoreScale =
-        static_cast<float>(kCoreStrength * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
+    c.cohesionCoreScale = static_cast<float>(
+        kCoreStrength * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
     c.surfaceDensity = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
@@ -175,7 +175,8 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         // area and side, so sigma = kCohesionCalibration epsilon m deficit.
         const double epsilon = kCohesionCalibration * sigma / (m * lattice.topLayerDeficit);
         c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * epsilon);
-        c.capillaryTimeStep = static_cast<float>(1.0 / std::sqrt(2.0 * epsilon * lattice.stiffness));
+        c.capillaryTimeStep =
+            static_cast<float>(1.0 / std::sqrt(2.0 * epsilon * lattice.stiffness));
         const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
         c.adhesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
         // The artificial pressure is a position correction per iteration: as

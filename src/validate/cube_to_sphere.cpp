@@ -106,8 +106,7 @@ CaseResult run(const Options& options) {
                              "one drop (particles linked closer than h)",
                              "no particle may leave the drop", Check::Bound::AtMost});
     result.checks.push_back(
-        {"closest pair of particles / spacing", smallest, 0.5, 0.0, "",
-         "no clustering",
+        {"closest pair of particles / spacing", smallest, 0.5, 0.0, "", "no clustering",
          "issue 27: above half a spacing at every frame; cohesion alone would pull pairs "
          "together where the constraint is inactive",
          Check::Bound::AtLeast});

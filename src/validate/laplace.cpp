@@ -25,7 +25,7 @@ namespace {
 constexpr double kSigma = 0.0728;
 
 struct Drop {
-    double radius = 0.0;  // from the particles' volume, m
+    double radius = 0.0;    // from the particles' volume, m
     double pressure = 0.0;  // Pa, averaged
     std::size_t particles = 0;
     std::vector<double> t, p;
@@ -68,7 +68,8 @@ Drop restingDrop(double radius, float spacing, const Options& options) {
     drop.pressure = sum / samples;
     if (options.progress)
         options.progress(fmt::format(
-            "laplace: drop of {:.2f} mm ({} particles): pressure {:.1f} Pa, 2 sigma / R = {:.1f} Pa",
+            "laplace: drop of {:.2f} mm ({} particles): pressure {:.1f} Pa, 2 sigma / R = {:.1f} "
+            "Pa",
             1e3 * drop.radius, drop.particles, drop.pressure, 2.0 * kSigma / drop.radius));
     return drop;
 }
@@ -85,10 +86,9 @@ CaseResult run(const Options& options) {
     for (const Drop* d : {&small, &large}) {
         const std::string label = fmt::format("R = {:.2f} mm", 1e3 * d->radius);
         panel.series.push_back(detail::record(result, label, "t_s", d->t, "Pa", d->p));
-        panel.series.push_back(detail::record(result, label + ": 2 sigma / R", "t_s",
-                                              {d->t.front(), d->t.back()}, "Pa",
-                                              {2 * kSigma / d->radius, 2 * kSigma / d->radius},
-                                              plot::Style::Dashed));
+        panel.series.push_back(detail::record(
+            result, label + ": 2 sigma / R", "t_s", {d->t.front(), d->t.back()}, "Pa",
+            {2 * kSigma / d->radius, 2 * kSigma / d->radius}, plot::Style::Dashed));
     }
     result.figure = {result.title, {panel}, 1};
     for (const Drop* d : {&small, &large})
@@ -98,10 +98,9 @@ CaseResult run(const Options& options) {
              "Young-Laplace: 2 sigma / R",
              "25 %: sigma is calibrated on the Rayleigh frequency (within 10 %), and the "
              "constraint's force fluctuates with the surface particles' noise"});
-    result.checks.push_back(
-        {"p R of the small drop / p R of the large", small.pressure * small.radius /
-                                                       (large.pressure * large.radius),
-         1.0, 0.2, "", "the 1 / R law", "both drops at the same resolution"});
+    result.checks.push_back({"p R of the small drop / p R of the large",
+                             small.pressure * small.radius / (large.pressure * large.radius), 1.0,
+                             0.2, "", "the 1 / R law", "both drops at the same resolution"});
     result.notes = fmt::format(
         "Drops of water (sigma {} N/m) without gravity, particles {:.2f} mm apart, warm start "
         "0.8, XSPH 0.05; 0.15 s to settle, then the constraint's force across the equator "

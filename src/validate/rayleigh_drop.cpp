@@ -111,15 +111,16 @@ Run runDrop(double particlesAcross, const Options& options) {
     const double period = 2.0 * std::numbers::pi / omegaGuess;
     def.fps = float(40.0 / period);  // 40 samples per period
     // The ellipsoid's lattice sites, volume preserved.
-    const double along = kRadius * (1.0 + kAmplitude), across = kRadius / std::sqrt(1.0 + kAmplitude);
+    const double along = kRadius * (1.0 + kAmplitude),
+                 across = kRadius / std::sqrt(1.0 + kAmplitude);
     const float reach = float(along + spacing);
     const float half = 0.5f * spacing;
-    const std::vector<Vec3> sites = detail::latticeSites(
-        def, {{-reach, -reach, -reach}, {reach, reach, reach}}, {half, half, half},
-        [&](const Vec3& x) {
-            const double u = x.x / across, v = x.y / along, w = x.z / across;
-            return u * u + v * v + w * w <= 1.0;
-        });
+    const std::vector<Vec3> sites =
+        detail::latticeSites(def, {{-reach, -reach, -reach}, {reach, reach, reach}},
+                             {half, half, half}, [&](const Vec3& x) {
+                                 const double u = x.x / across, v = x.y / along, w = x.z / across;
+                                 return u * u + v * v + w * w <= 1.0;
+                             });
     World world = detail::worldOf(def, sites);
     Run run;
     run.particlesAcross = particlesAcross;
@@ -153,8 +154,8 @@ Run runDrop(double particlesAcross, const Options& options) {
         options.progress(fmt::format(
             "rayleigh_drop: {:.0f} particles across ({} particles): omega {:.2f} rad/s, theory "
             "{:.2f} ({:+.1f} %), damping {:.1f} 1/s",
-            run.particlesAcross, run.particles, run.fit.omega, run.omegaTheory,
-            100.0 * run.error(), run.fit.beta));
+            run.particlesAcross, run.particles, run.fit.omega, run.omegaTheory, 100.0 * run.error(),
+            run.fit.beta));
     return run;
 }
 
@@ -167,18 +168,17 @@ CaseResult run(const Options& options) {
     std::vector<Run> runs;
     for (const double across : resolutions) runs.push_back(runDrop(across, options));
 
-    plot::Panel signal{"Quadrupole moment of the drop", "t (s)",
-                       "<y^2 - (x^2 + z^2)/2> / R^2", {}};
+    plot::Panel signal{"Quadrupole moment of the drop", "t (s)", "<y^2 - (x^2 + z^2)/2> / R^2", {}};
     std::vector<double> across, error;
     for (const Run& r : runs) {
-        signal.series.push_back(detail::record(
-            result, fmt::format("{:.0f} particles across", r.particlesAcross), "t_s", r.t,
-            "quadrupole", r.q));
+        signal.series.push_back(
+            detail::record(result, fmt::format("{:.0f} particles across", r.particlesAcross), "t_s",
+                           r.t, "quadrupole", r.q));
         across.push_back(r.particlesAcross);
         error.push_back(100.0 * std::fabs(r.error()));
     }
-    plot::Panel convergence{"Frequency error", "particles across the drop",
-                            "|omega / omega_0 - 1| (%)", {}};
+    plot::Panel convergence{
+        "Frequency error", "particles across the drop", "|omega / omega_0 - 1| (%)", {}};
     convergence.series.push_back(detail::record(result, "frequency error", "particles_across",
                                                 across, "percent", error, plot::Style::Points));
     result.figure = {result.title, {signal, convergence}, 2};
@@ -196,10 +196,11 @@ CaseResult run(const Options& options) {
                              "issue 27: over three resolutions", Check::Bound::AtMost});
     std::string perRun;
     for (const Run& r : runs)
-        perRun += fmt::format("{:.0f} across ({} particles): omega {:.1f} rad/s, theory {:.1f} "
-                              "({:+.1f} %), damping {:.1f} 1/s; ",
-                              r.particlesAcross, r.particles, r.fit.omega, r.omegaTheory,
-                              100.0 * r.error(), r.fit.beta);
+        perRun += fmt::format(
+            "{:.0f} across ({} particles): omega {:.1f} rad/s, theory {:.1f} "
+            "({:+.1f} %), damping {:.1f} 1/s; ",
+            r.particlesAcross, r.particles, r.fit.omega, r.omegaTheory, 100.0 * r.error(),
+            r.fit.beta);
     result.notes = fmt::format(
         "A {:.0f} mm drop of water (sigma {} N/m) without gravity, released at rest as a prolate "
         "ellipsoid (amplitude {}), XSPH off; omega from a damped cosine fitted to the quadrupole "

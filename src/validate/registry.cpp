@@ -16,8 +16,8 @@ Case wettingCase();
 Case laplaceCase();
 
 const std::vector<Case>& cases() {
-    static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(), freeFallCase(),
-                                       momentumCase(),    taylorGreenCase(), archimedesCase(),
+    static const std::vector<Case> all{martinMoyceCase(),  hydrostaticCase(),  freeFallCase(),
+                                       momentumCase(),     taylorGreenCase(),  archimedesCase(),
                                        rayleighDropCase(), cubeToSphereCase(), laplaceCase(),
                                        wettingCase()};
     return all;

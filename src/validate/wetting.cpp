@@ -114,9 +114,10 @@ double hangingDropFall(double adhesion, int across, double duration, const Optio
     while (world.time() < duration - 1e-9) detail::step(world);
     const double fall = startY - detail::centroid(detail::positions(world)).y;
     if (options.progress)
-        options.progress(fmt::format("wetting: drop on a vertical wall, adhesion {:.2f}: fell "
-                                     "{:.2f} mm in {:.2f} s",
-                                     adhesion, 1e3 * fall, duration));
+        options.progress(
+            fmt::format("wetting: drop on a vertical wall, adhesion {:.2f}: fell "
+                        "{:.2f} mm in {:.2f} s",
+                        adhesion, 1e3 * fall, duration));
     return fall;
 }
 
@@ -143,8 +144,8 @@ CaseResult run(const Options& options) {
     plot::Panel angle{"Contact angle of a drop on a plate", "adhesion a", "theta (degrees)", {}};
     angle.series.push_back(detail::record(result, "measured", "adhesion", adhesions, "degrees",
                                           measured, plot::Style::Points));
-    angle.series.push_back(detail::record(result, "Young-Dupre acos(2a - 1)", "adhesion",
-                                          adhesions, "degrees", expected, plot::Style::Dashed));
+    angle.series.push_back(detail::record(result, "Young-Dupre acos(2a - 1)", "adhesion", adhesions,
+                                          "degrees", expected, plot::Style::Dashed));
     result.figure = {result.title, {angle}, 1};
 
     result.checks.push_back({"contact angle falls as adhesion rises (1: yes)", falling ? 1.0 : 0.0,
@@ -156,8 +157,7 @@ CaseResult run(const Options& options) {
     // degrees below it (docs/surface_tension.md).
     result.checks.push_back({"drop with adhesion 0.8 on a vertical wall: fall in 0.2 s", fallWith,
                              0.0, 0.1 * freeFall, "m", "hangs (0)",
-                             "a tenth of free fall: it may creep, not fall",
-                             Check::Bound::AtMost});
+                             "a tenth of free fall: it may creep, not fall", Check::Bound::AtMost});
     result.checks.push_back({"drop without adhesion: fall in 0.2 s", fallWithout, freeFall,
                              0.2 * freeFall, "m", "free fall 0.5 g t^2",
                              "nothing holds it: it falls (friction needs a normal load)",

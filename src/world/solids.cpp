@@ -195,7 +195,9 @@ void SolidSet::setBoundaryScale(std::size_t i, std::shared_ptr<const BoundarySca
     scales_.at(i) = std::move(scale);
 }
 
-void SolidSet::setAdhesion(std::size_t i, float adhesion) { adhesion_.at(i) = adhesion; }
+void SolidSet::setAdhesion(std::size_t i, float adhesion) {
+    adhesion_.at(i) = adhesion;
+}
 
 float SolidSet::boundaryScale(std::size_t i, const Vec3& p) const {
     if (!scales_[i]) return 1.0f;

@@ -15,10 +15,10 @@
 #include "backend/cpu/simd-inl.h"
 // After simd-inl.h: the neighbour-batch helpers (per target, like it).
 #include "backend/cpu/pair_loops-inl.h"
+#include "backend/cpu/solver_stages.hpp"
 #include "core/boundary.hpp"
 #include "core/iteration_control.hpp"
 #include "core/reactions.hpp"
-#include "backend/cpu/solver_stages.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace pbf::stages::HWY_NAMESPACE {

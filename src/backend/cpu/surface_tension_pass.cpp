@@ -37,8 +37,8 @@ struct SurfaceTensionPass {
     const PackedPoint* neighborRecords;  // positionDensity + the block's list base
     Float3Array& velocity;
     PairConstants k;
-    FloatVec minDistance2;    // d^2: no pull within one spacing
-    FloatVec coreDistance2;   // r_c^2: pushed apart within it
+    FloatVec minDistance2;   // d^2: no pull within one spacing
+    FloatVec coreDistance2;  // r_c^2: pushed apart within it
     FloatVec coreDistance;
     FloatVec minusTwoCoreScale;
     FloatVec surfaceDensity;  // rho below which a particle is on the surface
@@ -87,8 +87,7 @@ struct CohesionParticle {
         // -cohesionScale (s_i + s_j) (h^2 - r^2)^2 (x_i - x_j) summed, the scale applied once.
         const Vec3 cohesion =
             Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} * -c.cohesionScale;
-        const boundary::AdhesionPull pull =
-            boundary::adhesionPull(c, p.wallAdhesion, p.solids, x);
+        const boundary::AdhesionPull pull = boundary::adhesionPull(c, p.wallAdhesion, p.solids, x);
         const Vec3 solid = reference::adhesionAcceleration(c, pull.solid);
         const Vec3 a = cohesion + reference::adhesionAcceleration(c, pull.walls) + solid;
         p.velocity.set(i, p.velocity.get(i) + p.dt * a);
@@ -97,8 +96,8 @@ struct CohesionParticle {
     }
 };
 
-void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
-                    float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
+void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids, float dt,
+                    ReactionAccumulator* reactions, const NeighborSearch& search,
                     const PackedPoint* positionDensity, Float3Array& velocity, std::size_t begin,
                     std::size_t end) {
     const FloatTag d;
@@ -122,8 +121,7 @@ void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet
                          if (block.wide)
                              forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);
                          else
-                             forEachParticleInterleaved<CohesionParticle<false>>(pass, first,
-                                                                                 last);
+                             forEachParticleInterleaved<CohesionParticle<false>>(pass, first, last);
                      });
 }
 

@@ -215,10 +215,10 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
 // Jeske et al. 2023 (min(W, W(d))): no pair gains by coming closer than the
 // rest lattice's spacing, so the cohesion never pulls particles into
 // clumps; closer than 0.8 d a core pushes every pair apart (the job of
-// Akinci's repulsive core and of PBF's s_corr). docs/surface_tension.md compares the models tried (the pair force
-// between all particles made PBF's water a jelly, a continuum surface force
-// from particle normals was 3-5 times too strong) and says how epsilon is
-// derived from sigma (SolverConstants::cohesionScale = 6 c6 epsilon).
+// Akinci's repulsive core and of PBF's s_corr). docs/surface_tension.md compares the models tried
+// (the pair force between all particles made PBF's water a jelly, a continuum surface force from
+// particle normals was 3-5 times too strong) and says how epsilon is derived from sigma
+// (SolverConstants::cohesionScale = 6 c6 epsilon).
 
 // Whether a particle of this density is on the surface.
 PBF_HD inline bool onSurface(const SolverConstants& c, float density) {

@@ -283,8 +283,10 @@ SimdResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
         surfaceVelocity.resize(n);
         std::vector<PackedPoint> positionDensity(n);
         for (std::size_t i = 0; i < n; ++i)
-            surfaceVelocity.set(i, {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
-        stages::packPositionDensities(predicted.data(), out.density.data(), positionDensity.data(), 0, n);
+            surfaceVelocity.set(i,
+                                {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
+        stages::packPositionDensities(predicted.data(), out.density.data(), positionDensity.data(),
+                                      0, n);
         inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
             stages::applySurfaceTension(cs, kWallAdhesion, solids, kDt, nullptr, search,
                                         positionDensity.data(), surfaceVelocity, b, e);
@@ -685,10 +687,13 @@ TEST_P(SimdVsReference, AgreeWithinTheDerivedBounds) {
     // The clouds exercise what they are meant to.
     EXPECT_GT(active, n / 10) << "too few compressed particles to test lambda and dp";
     const SolverConstants cs = surfaceTensionConstants(cloud);
-    const auto surfaceParticles = std::count_if(simd.density.begin(), simd.density.end(),
-                                                [&](float rho) { return reference::onSurface(cs, rho); });
-    EXPECT_GT(std::size_t(surfaceParticles), n / 20) << "too few surface particles to test cohesion";
-    EXPECT_LT(std::size_t(surfaceParticles), n - n / 10) << "too few inner particles to test cohesion";
+    const auto surfaceParticles =
+        std::count_if(simd.density.begin(), simd.density.end(),
+                      [&](float rho) { return reference::onSurface(cs, rho); });
+    EXPECT_GT(std::size_t(surfaceParticles), n / 20)
+        << "too few surface particles to test cohesion";
+    EXPECT_LT(std::size_t(surfaceParticles), n - n / 10)
+        << "too few inner particles to test cohesion";
     EXPECT_LT(skippedAtSolids, n / 4);
 }
 
