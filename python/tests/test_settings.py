@@ -44,7 +44,7 @@ def test_invalid_setting_names_the_field_and_changes_nothing(small_world, dam_br
         s.iterations = 2.5
     with pytest.raises(AttributeError):
         s.iteratons = 3  # a typo is not silently a new attribute
-    with pytest.raises(KeyError, match="no live setting"):
+    with pytest.raises(KeyError, match="no setting"):
         s["solver.iteratons"] = 3
     assert s.as_dict() == before
     assert small_world.step_frame().iterations == 4

@@ -104,17 +104,12 @@ std::string serialize(const Checkpoint& c) {
     w.value(c.time);
     const ParticleStore& p = c.particles;
     w.value<std::uint32_t>(p.nextId());
-    w.array(p.position.x);
-    w.array(p.position.y);
-    w.array(p.position.z);
-    w.array(p.velocity.x);
-    w.array(p.velocity.y);
-    w.array(p.velocity.z);
-    w.array(p.density);
-    w.array(p.id);
-    w.array(p.solveAcceleration.x);  // empty while the warm start is off
-    w.array(p.solveAcceleration.y);
-    w.array(p.solveAcceleration.z);
+    // Every field of the list but the solver's working copies, in list
+    // order; an optional field that is off is written empty.
+    p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
+        if (field.kind == ParticleFieldKind::Working) return;
+        for (const auto* component : componentsOf(a)) w.array(*component);
+    });
     w.array(c.emitters);
     w.array(c.bodies);
     const RunTotals& t = c.totals;
@@ -139,17 +134,18 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     c.time = r.value<double>("time");
     ParticleStore& p = c.particles;
     const auto nextId = r.value<std::uint32_t>("next id");
-    r.array(p.position.x, "position.x");
-    r.array(p.position.y, "position.y");
-    r.array(p.position.z, "position.z");
-    r.array(p.velocity.x, "velocity.x");
-    r.array(p.velocity.y, "velocity.y");
-    r.array(p.velocity.z, "velocity.z");
-    r.array(p.density, "density");
-    r.array(p.id, "id");
-    r.array(p.solveAcceleration.x, "solve acceleration.x");
-    r.array(p.solveAcceleration.y, "solve acceleration.y");
-    r.array(p.solveAcceleration.z, "solve acceleration.z");
+    bool sameLengths = true;
+    p.forEachField([&](const ParticleFieldInfo& field, auto& a) {
+        if (field.kind == ParticleFieldKind::Working) return;
+        const auto components = componentsOf(a);
+        constexpr const char* kAxes[] = {".x", ".y", ".z"};
+        for (std::size_t k = 0; k < components.size(); ++k) {
+            const std::string what = field.name + std::string(components.size() == 3 ? kAxes[k] : "");
+            r.array(*components[k], what.c_str());
+        }
+        for (const auto* component : components)
+            sameLengths = sameLengths && component->size() == components[0]->size();
+    });
     r.array(c.emitters, "emitters");
     r.array(c.bodies, "rigid bodies");
     RunTotals& t = c.totals;
@@ -167,13 +163,13 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     // The checksum passed, so these only fail for a file written by a buggy
     // or foreign program; still, never hand an inconsistent store to the solver.
     const std::size_t n = p.id.size();
-    for (const std::size_t size :
-         {p.position.x.size(), p.position.y.size(), p.position.z.size(), p.velocity.x.size(),
-          p.velocity.y.size(), p.velocity.z.size(), p.density.size()})
-        if (size != n) fail(name, "corrupt checkpoint: particle arrays of different lengths");
-    const Float3Array& a = p.solveAcceleration;
-    if (!(a.x.size() == a.y.size() && a.x.size() == a.z.size() && (a.x.empty() || a.x.size() == n)))
-        fail(name, "corrupt checkpoint: particle arrays of different lengths");
+    p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
+        if (field.kind == ParticleFieldKind::Working) return;
+        const std::size_t size = componentsOf(a)[0]->size();
+        if (!(size == n || (size == 0 && field.kind == ParticleFieldKind::Optional)))
+            sameLengths = false;
+    });
+    if (!sameLengths) fail(name, "corrupt checkpoint: particle arrays of different lengths");
     if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
         fail(name, "corrupt checkpoint: bad frame or time");
     std::vector<std::uint32_t> ids = p.id;
@@ -181,7 +177,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() ||
         (!ids.empty() && ids.back() >= nextId))
         fail(name, "corrupt checkpoint: particle ids are not unique or exceed the next id");
-    p.predicted = p.position;
+    p.predicted = p.position;  // the working copies start from the state
     p.setNextId(nextId);
     return c;
 }
@@ -288,8 +284,15 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
 }
 
 std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes) {
-    // Header, scalars and length prefixes (< 512 bytes), 8 arrays of 4 bytes per particle, the CSVs.
-    return kHeaderBytes + 512 + std::uintmax_t{particles} * 32 + csvBytes;
+    // Header, scalars and length prefixes (< 512 bytes), the saved fields
+    // (optional ones counted as on: the most a checkpoint holds), the CSVs.
+    std::uintmax_t perParticle = 0;
+    ParticleStore().forEachField([&](const ParticleFieldInfo& field, const auto& a) {
+        if (field.kind == ParticleFieldKind::Working) return;
+        for (const auto* c : componentsOf(a))
+            perParticle += sizeof(typename std::remove_pointer_t<decltype(c)>::value_type);
+    });
+    return kHeaderBytes + 512 + std::uintmax_t{particles} * perParticle + csvBytes;
 }
 
 }  // namespace pbf
