@@ -85,7 +85,8 @@ void bindGroupParams(py::class_<Group>& cls, ParamGroup group, const char* name,
             docOf(p).c_str());
         fields.emplace_back(p.name());
     }
-    cls.def("__repr__", [name, fields](const py::object& self) { return reprOf(self, name, fields); });
+    cls.def("__repr__",
+            [name, fields](const py::object& self) { return reprOf(self, name, fields); });
 }
 
 void bindParamClasses(py::module_& m) {
@@ -101,7 +102,8 @@ void bindParamClasses(py::module_& m) {
 
     py::class_<SolverParams> solver(m, "SolverParams",
                                     "Solver settings (docs/scenes.md, \"solver\").");
-    solver.def(py::init<>()).def_readwrite("artificial_pressure", &SolverParams::artificialPressure);
+    solver.def(py::init<>())
+        .def_readwrite("artificial_pressure", &SolverParams::artificialPressure);
     bindGroupParams(solver, ParamGroup::Solver, "SolverParams", {"artificial_pressure"});
 
     py::class_<SimulationParams> simulation(
@@ -129,7 +131,9 @@ py::object paramToPython(const ParamValue& value) {
         py::object operator()(int v) const { return py::int_(v); }
         py::object operator()(const Vec3& v) const { return py::cast(v); }
         py::object operator()(const Aabb& v) const { return py::cast(v); }
-        py::object operator()(TimeStepMode v) const { return py::str(std::string(timeStepName(v))); }
+        py::object operator()(TimeStepMode v) const {
+            return py::str(std::string(timeStepName(v)));
+        }
     };
     return std::visit(ToPython{}, value);
 }
@@ -174,9 +178,54 @@ std::string reprOf(py::handle self, const char* type, std::initializer_list<cons
     return reprOf(self, type, std::vector<std::string>(fields.begin(), fields.end()));
 }
 
+const char* typeName(ParamType type) {
+    switch (type) {
+        case ParamType::Float:
+            return "float";
+        case ParamType::Int:
+            return "int";
+        case ParamType::Vec3:
+            return "vec3";
+        case ParamType::Box:
+            return "box";
+        case ParamType::Choice:
+            return "choice";
+    }
+    return "";
+}
+
 void bindParams(py::module_& m) {
     bindAabb(m);
     bindParamClasses(m);
+    m.def(
+        "parameters",
+        [] {
+            py::list rows;
+            for (const ParamInfo& p : paramTable()) {
+                py::dict row;
+                row["path"] = std::string(p.path);
+                row["attribute"] = std::string(p.attribute);
+                row["type"] = typeName(p.type);
+                row["unit"] = std::string(p.unit);
+                row["default"] = paramToPython(p.get(SimulationParams{}));
+                row["range"] = rangeText(p);
+                row["min"] = p.range.lo;
+                row["max"] = p.range.hiParam.empty()
+                                 ? py::object(py::float_(p.range.hi))
+                                 : py::object(py::str(std::string(p.range.hiParam)));
+                row["min_open"] = p.range.loOpen;
+                row["max_open"] = p.range.hiOpen;
+                row["live"] = p.live;
+                row["required"] = p.required;
+                row["description"] = std::string(p.description);
+                rows.append(row);
+            }
+            return rows;
+        },
+        "Every simulation parameter (the parameter table, docs/scenes.md): a list of dicts "
+        "with path, attribute, type, unit, default, range (text), min, max (a number, or the "
+        "path of the parameter that bounds it), min_open, max_open, live, required, "
+        "description.");
 }
 
 }  // namespace pbf::python

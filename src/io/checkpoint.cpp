@@ -10,9 +10,11 @@
 #include <type_traits>
 
 #include "core/hash.hpp"
+#include "io/binary_stream.hpp"
+#include "io/checkpoint_particles.hpp"
 #include "pbf/io.hpp"
-#include "pbf/world.hpp"
 #include "pbf/version.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf {
 namespace {
@@ -22,94 +24,23 @@ static_assert(std::endian::native == std::endian::little,
 
 constexpr char kMagic[8] = {'P', 'B', 'F', 'C', 'K', 'P', 'T', '\n'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
-constexpr std::uint64_t kMaxStringBytes = std::uint64_t{1} << 40;
 
-[[noreturn]] void fail(const std::string& name, const std::string& message) {
-    throw IoError(name + ": " + message);
-}
-
-class Writer {
-  public:
-    template <class T>
-    void value(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        bytes_.append(reinterpret_cast<const char*>(&v), sizeof(T));
-    }
-    template <class T>
-    void array(const std::vector<T>& values) {
-        value<std::uint64_t>(values.size());
-        if (values.empty()) return;  // data() may be null
-        bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-    }
-    void string(const std::string& s) {
-        value<std::uint64_t>(s.size());
-        bytes_.append(s);
-    }
-    const std::string& bytes() const { return bytes_; }
-
-  private:
-    std::string bytes_;
-};
-
-// Bounds-checked reads from the payload: a corrupt length can never make it
-// read past the end or allocate more than the file holds.
-class Reader {
-  public:
-    Reader(const std::string& bytes, const std::string& name) : bytes_(bytes), name_(name) {}
-
-    template <class T>
-    T value(const char* what) {
-        T v;
-        need(sizeof(T), what);
-        std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-        pos_ += sizeof(T);
-        return v;
-    }
-    template <class T>
-    void array(std::vector<T>& out, const char* what) {
-        const auto n = value<std::uint64_t>(what);
-        if (n > (bytes_.size() - pos_) / sizeof(T))
-            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
-        out.resize(static_cast<std::size_t>(n));
-        if (out.empty()) return;  // memcpy must not see the null data() of an empty vector
-        std::memcpy(out.data(), bytes_.data() + pos_, out.size() * sizeof(T));
-        pos_ += out.size() * sizeof(T);
-    }
-    std::string string(const char* what) {
-        const auto n = value<std::uint64_t>(what);
-        if (n > kMaxStringBytes)
-            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
-        need(static_cast<std::size_t>(n), what);
-        std::string s = bytes_.substr(pos_, static_cast<std::size_t>(n));
-        pos_ += s.size();
-        return s;
-    }
-    bool atEnd() const { return pos_ == bytes_.size(); }
-
-  private:
-    void need(std::size_t n, const char* what) const {
-        if (n > bytes_.size() - pos_)
-            fail(name_, std::string("corrupt checkpoint: truncated at ") + what);
-    }
-    const std::string& bytes_;
-    const std::string& name_;
-    std::size_t pos_ = 0;
-};
+using detail::BinaryReader;
+using detail::BinaryWriter;
+using detail::fail;
+using detail::readParticleArrays;
+using detail::savedBytesPerParticle;
+using detail::writeParticleArrays;
 
 std::string serialize(const Checkpoint& c) {
-    Writer w;
+    BinaryWriter w;
     w.value(c.sceneFingerprint);
     w.string(c.pbfVersion);
     w.value<std::int32_t>(c.frame);
     w.value(c.time);
     const ParticleStore& p = c.particles;
     w.value<std::uint32_t>(p.nextId());
-    // Every field of the list but the solver's working copies, in list
-    // order; an optional field that is off is written empty.
-    p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
-        if (field.kind == ParticleFieldKind::Working) return;
-        for (const auto* component : componentsOf(a)) w.array(*component);
-    });
+    writeParticleArrays(w, p);
     w.array(c.emitters);
     w.array(c.bodies);
     const RunTotals& t = c.totals;
@@ -126,7 +57,7 @@ std::string serialize(const Checkpoint& c) {
 }
 
 Checkpoint deserialize(const std::string& payload, const std::string& name) {
-    Reader r(payload, name);
+    BinaryReader r(payload, name);
     Checkpoint c;
     c.sceneFingerprint = r.value<std::uint64_t>("scene fingerprint");
     c.pbfVersion = r.string("pbf version");
@@ -134,18 +65,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     c.time = r.value<double>("time");
     ParticleStore& p = c.particles;
     const auto nextId = r.value<std::uint32_t>("next id");
-    bool sameLengths = true;
-    p.forEachField([&](const ParticleFieldInfo& field, auto& a) {
-        if (field.kind == ParticleFieldKind::Working) return;
-        const auto components = componentsOf(a);
-        constexpr const char* kAxes[] = {".x", ".y", ".z"};
-        for (std::size_t k = 0; k < components.size(); ++k) {
-            const std::string what = field.name + std::string(components.size() == 3 ? kAxes[k] : "");
-            r.array(*components[k], what.c_str());
-        }
-        for (const auto* component : components)
-            sameLengths = sameLengths && component->size() == components[0]->size();
-    });
+    readParticleArrays(r, p);
     r.array(c.emitters, "emitters");
     r.array(c.bodies, "rigid bodies");
     RunTotals& t = c.totals;
@@ -162,14 +82,6 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
 
     // The checksum passed, so these only fail for a file written by a buggy
     // or foreign program; still, never hand an inconsistent store to the solver.
-    const std::size_t n = p.id.size();
-    p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
-        if (field.kind == ParticleFieldKind::Working) return;
-        const std::size_t size = componentsOf(a)[0]->size();
-        if (!(size == n || (size == 0 && field.kind == ParticleFieldKind::Optional)))
-            sameLengths = false;
-    });
-    if (!sameLengths) fail(name, "corrupt checkpoint: particle arrays of different lengths");
     if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
         fail(name, "corrupt checkpoint: bad frame or time");
     std::vector<std::uint32_t> ids = p.id;
@@ -216,8 +128,9 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
         fail(name, fmt::format("corrupt checkpoint: {} emitter states for a scene with {} emitters",
                                c.emitters.size(), world.emitters().size()));
     if (c.bodies.size() != world.bodyCount())
-        fail(name, fmt::format("corrupt checkpoint: {} rigid body states for a scene with {} bodies",
-                               c.bodies.size(), world.bodyCount()));
+        fail(name,
+             fmt::format("corrupt checkpoint: {} rigid body states for a scene with {} bodies",
+                         c.bodies.size(), world.bodyCount()));
     WorldState state;
     state.particles = c.particles;
     state.particles.predicted = state.particles.position;
@@ -284,15 +197,10 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
 }
 
 std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes) {
-    // Header, scalars and length prefixes (< 512 bytes), the saved fields
-    // (optional ones counted as on: the most a checkpoint holds), the CSVs.
-    std::uintmax_t perParticle = 0;
-    ParticleStore().forEachField([&](const ParticleFieldInfo& field, const auto& a) {
-        if (field.kind == ParticleFieldKind::Working) return;
-        for (const auto* c : componentsOf(a))
-            perParticle += sizeof(typename std::remove_pointer_t<decltype(c)>::value_type);
-    });
-    return kHeaderBytes + 512 + std::uintmax_t{particles} * perParticle + csvBytes;
+    // Header, scalars and length prefixes (< 512 bytes), the particle
+    // arrays (optional fields counted as on: the most a checkpoint holds), the CSVs.
+    return kHeaderBytes + 512 + std::uintmax_t{particles} * detail::savedBytesPerParticle() +
+           csvBytes;
 }
 
 }  // namespace pbf

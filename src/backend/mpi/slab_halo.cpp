@@ -259,6 +259,14 @@ void SlabHalo::sum(std::int64_t* values, int count) {
              "MPI_Allreduce (iteration control)");
 }
 
+void SlabHalo::exchange(PackedPoint* records) {
+    exchangeBytes(records, sizeof(PackedPoint));
+}
+
+void SlabHalo::exchange(float* values) {
+    exchangeBytes(values, sizeof(float));
+}
+
 void SlabHalo::exchange(Float3Array& values) {
     exchangeBytes(values.x.data(), sizeof(float));
     exchangeBytes(values.y.data(), sizeof(float));

@@ -75,8 +75,8 @@ class SlabHalo {
     // After the sort: the owned particles are [begin, end) of the store.
     void ownedRange(const NeighborSearch& search, std::size_t& begin, std::size_t& end);
     // The ghosts' entries of these arrays (store order) from their owners.
-    void exchange(PackedPoint* records) { exchangeBytes(records, sizeof(PackedPoint)); }
-    void exchange(float* values) { exchangeBytes(values, sizeof(float)); }
+    void exchange(PackedPoint* records);
+    void exchange(float* values);
     void exchange(Float3Array& values);
     // Sums over all processes, in place (integers: exact in any order).
     void sum(std::int64_t* values, int count);
