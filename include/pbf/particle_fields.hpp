@@ -29,16 +29,16 @@
 
 #include <cstdint>
 
-#define PBF_PARTICLE_FIELDS(X)                                                                   \
-    X(position, float, 3, "m", Saved, "position x")                                              \
-    X(predicted, float, 3, "m", Working,                                                         \
-      "predicted position x*, the solver's working positions (equal to x between steps)")        \
-    X(velocity, float, 3, "m/s", Saved, "velocity v")                                            \
-    X(density, float, 1, "kg/m^3", Saved, "last density estimate")                               \
-    X(id, std::uint32_t, 1, "", Saved, "stable identity, 0-based")                               \
-    X(solveAcceleration, float, 3, "m/s^2", Optional,                                            \
-      "the last substep's pressure acceleration (its position correction per dt^2), which "      \
-      "warm-starts the next one (solver.warm_start; empty while it is off)")                     \
+#define PBF_PARTICLE_FIELDS(X)                                                              \
+    X(position, float, 3, "m", Saved, "position x")                                         \
+    X(predicted, float, 3, "m", Working,                                                    \
+      "predicted position x*, the solver's working positions (equal to x between steps)")   \
+    X(velocity, float, 3, "m/s", Saved, "velocity v")                                       \
+    X(density, float, 1, "kg/m^3", Saved, "last density estimate")                          \
+    X(id, std::uint32_t, 1, "", Saved, "stable identity, 0-based")                          \
+    X(solveAcceleration, float, 3, "m/s^2", Optional,                                       \
+      "the last substep's pressure acceleration (its position correction per dt^2), which " \
+      "warm-starts the next one (solver.warm_start; empty while it is off)")                \
     PBF_EXTRA_PARTICLE_FIELDS(X)
 
 // Fields a test build adds to the list (see the comment above); empty in pbf.
@@ -49,6 +49,14 @@
 namespace pbf {
 
 enum class ParticleFieldKind { Saved, Working, Optional };
+
+// The fields by name, in list order (ParticleField::solveAcceleration).
+enum class ParticleField {
+#define PBF_FIELD_ENUMERATOR(name, type, components, unit, kind, description) name,
+    PBF_PARTICLE_FIELDS(PBF_FIELD_ENUMERATOR)
+#undef PBF_FIELD_ENUMERATOR
+        Count
+};
 
 // A field's entry of the list, as data.
 struct ParticleFieldInfo {

@@ -9,8 +9,8 @@
 // particle's stable identity for output files.
 #pragma once
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <type_traits>
@@ -106,17 +106,27 @@ class ParticleStore {
 #undef PBF_VISIT_FIELD
     }
 
-    std::size_t size() const { return id.size(); }
+    std::size_t size() const {
+        return id.size();
+    }
     void reserve(std::size_t n);
     // Appends a particle with the next free id; density starts at `restDensity`.
     void add(const Vec3& x, const Vec3& v, float restDensity);
     // Resizes every field to n particles (an optional field only while it is
     // on); new particles are zero, ids included: the caller sets them.
     void resize(std::size_t n);
-    // The optional fields that hold values (bit k: the k-th field of the
-    // list), and switching them on (zeros for every particle) or off.
-    std::uint32_t keptOptionalFields() const;
+    // The optional fields that are on (bit k: the k-th field of the list),
+    // and switching them on (zeros for every particle) or off (emptied).
+    // An optional field holds one value per particle while it is on, none
+    // while it is off; the store remembers which even while it is empty.
+    std::uint32_t keptOptionalFields() const {
+        return optionalOn_;
+    }
     void keepOptionalFields(std::uint32_t mask);
+    bool kept(ParticleField field) const {
+        return (optionalOn_ >> int(field)) & 1u;
+    }
+    void keepOptionalField(ParticleField field, bool on);
     // Sets particle `to` to particle `i` of `from`, every field (an optional
     // field that `from` does not keep becomes zero).
     void copyParticle(std::size_t to, const ParticleStore& from, std::size_t i);
@@ -130,11 +140,18 @@ class ParticleStore {
     // Indices of the particles sorted by id (for writing files in a stable order).
     std::vector<std::uint32_t> orderById() const;
     // The id the next add() gives (saved and restored by checkpoints).
-    std::uint32_t nextId() const { return nextId_; }
-    void setNextId(std::uint32_t next) { nextId_ = next; }
+    std::uint32_t nextId() const {
+        return nextId_;
+    }
+    void setNextId(std::uint32_t next) {
+        nextId_ = next;
+    }
 
   private:
+    bool holdsValues(const ParticleFieldInfo& field) const;
+
     std::uint32_t nextId_ = 0;
+    std::uint32_t optionalOn_ = 0;
     std::vector<float> scratchFloat_;
     std::vector<std::uint32_t> scratchIndex_;
 };

@@ -25,14 +25,16 @@ void permute(std::vector<T>& values, std::span<const std::uint32_t> perm, std::v
     values.swap(scratch);
 }
 
-// Whether a field holds values for the particles: always, except an
-// optional field while its feature is off (empty).
-template <class Array>
-bool kept(const ParticleFieldInfo& field, const Array& a) {
-    return field.kind != ParticleFieldKind::Optional || componentsOf(a)[0]->size() != 0;
-}
+static_assert(std::size(kFields) <= 32, "keptOptionalFields is a 32-bit mask");
 
 }  // namespace
+
+// Whether a field holds values for the particles: always, except an
+// optional field while it is off.
+bool ParticleStore::holdsValues(const ParticleFieldInfo& field) const {
+    const auto index = static_cast<std::uint32_t>(&field - kFields);
+    return field.kind != ParticleFieldKind::Optional || ((optionalOn_ >> index) & 1u) != 0;
+}
 
 std::span<const ParticleFieldInfo> ParticleStore::fields() {
     return kFields;
@@ -40,7 +42,7 @@ std::span<const ParticleFieldInfo> ParticleStore::fields() {
 
 void ParticleStore::reserve(std::size_t n) {
     forEachField([&](const ParticleFieldInfo& field, auto& a) {
-        if (kept(field, a))
+        if (holdsValues(field))
             for (auto* c : componentsOf(a)) c->reserve(n);
     });
 }
@@ -49,35 +51,33 @@ void ParticleStore::resize(std::size_t n) {
     // An optional field is decided on by whether it holds values now: a
     // store without particles keeps its optional fields off.
     forEachField([&](const ParticleFieldInfo& field, auto& a) {
-        if (kept(field, a))
+        if (holdsValues(field))
             for (auto* c : componentsOf(a)) c->resize(n);
     });
 }
 
-std::uint32_t ParticleStore::keptOptionalFields() const {
-    std::uint32_t mask = 0, bit = 1;
-    forEachField([&](const ParticleFieldInfo& field, const auto& a) {
-        if (field.kind == ParticleFieldKind::Optional && kept(field, a)) mask |= bit;
-        bit <<= 1;
-    });
-    return mask;
-}
-
 void ParticleStore::keepOptionalFields(std::uint32_t mask) {
     const std::size_t n = size();
-    std::uint32_t bit = 1;
+    std::uint32_t onMask = 0;
     forEachField([&](const ParticleFieldInfo& field, auto& a) {
-        if (field.kind == ParticleFieldKind::Optional) {
-            const bool on = (mask & bit) != 0;
-            for (auto* c : componentsOf(a)) {
-                if (!on)
-                    c->clear();
-                else if (c->size() != n)
-                    c->assign(n, {});
-            }
+        const auto bit = std::uint32_t{1} << static_cast<std::uint32_t>(&field - kFields);
+        if (field.kind != ParticleFieldKind::Optional) return;
+        const bool on = (mask & bit) != 0;
+        if (on) onMask |= bit;
+        for (auto* c : componentsOf(a)) {
+            if (!on)
+                c->clear();
+            else if (c->size() != n)
+                c->assign(n, {});
         }
-        bit <<= 1;
     });
+    optionalOn_ = onMask;
+}
+
+void ParticleStore::keepOptionalField(ParticleField field, bool on) {
+    const std::uint32_t bit = std::uint32_t{1} << static_cast<std::uint32_t>(field);
+    if (on == kept(field)) return;
+    keepOptionalFields(on ? optionalOn_ | bit : optionalOn_ & ~bit);
 }
 
 void ParticleStore::add(const Vec3& x, const Vec3& v, float restDensity) {
@@ -92,12 +92,12 @@ void ParticleStore::add(const Vec3& x, const Vec3& v, float restDensity) {
 
 void ParticleStore::copyParticle(std::size_t to, const ParticleStore& from, std::size_t i) {
     // Both stores have the same fields: walk them in step.
-#define PBF_COPY_FIELD(name, type, components, unit, kind, description)            \
-    {                                                                             \
-        const auto source = componentsOf(from.name);                              \
-        const auto target = componentsOf(name);                                   \
-        for (std::size_t c = 0; c < target.size(); ++c)                           \
-            if (!target[c]->empty())                                              \
+#define PBF_COPY_FIELD(name, type, components, unit, kind, description)              \
+    {                                                                                \
+        const auto source = componentsOf(from.name);                                 \
+        const auto target = componentsOf(name);                                      \
+        for (std::size_t c = 0; c < target.size(); ++c)                              \
+            if (!target[c]->empty())                                                 \
                 (*target[c])[to] = i < source[c]->size() ? (*source[c])[i] : type{}; \
     }
     PBF_PARTICLE_FIELDS(PBF_COPY_FIELD)
@@ -136,12 +136,12 @@ std::vector<std::uint32_t> ParticleStore::orderById() const {
 }
 
 std::size_t ParticleStore::memoryBytes() const {
-    std::size_t bytes = sizeof(float) * scratchFloat_.capacity() +
-                        sizeof(std::uint32_t) * scratchIndex_.capacity();
+    std::size_t bytes =
+        sizeof(float) * scratchFloat_.capacity() + sizeof(std::uint32_t) * scratchIndex_.capacity();
     forEachField([&](const ParticleFieldInfo&, const auto& a) {
         for (const auto* c : componentsOf(a))
-            bytes += sizeof(typename std::remove_pointer_t<decltype(c)>::value_type) *
-                     c->capacity();
+            bytes +=
+                sizeof(typename std::remove_pointer_t<decltype(c)>::value_type) * c->capacity();
     });
     return bytes;
 }

@@ -34,7 +34,11 @@ void readParticleArrays(BinaryReader& r, ParticleStore& p) {
     // or foreign program; still, never hand an inconsistent store to the solver.
     const std::size_t n = p.id.size();
     bool consistent = true;
+    std::uint32_t optionalOn = 0, bit = 1;
     p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
+        if (field.kind == ParticleFieldKind::Optional && !componentsOf(a)[0]->empty())
+            optionalOn |= bit;
+        bit <<= 1;
         if (field.kind == ParticleFieldKind::Working) return;
         for (const auto* component : componentsOf(a)) {
             const std::size_t size = component->size();
@@ -43,6 +47,8 @@ void readParticleArrays(BinaryReader& r, ParticleStore& p) {
         }
     });
     if (!consistent) r.reject("corrupt checkpoint: particle arrays of different lengths");
+    // An optional field saved with values was on.
+    p.keepOptionalFields(optionalOn);
 }
 
 std::size_t savedBytesPerParticle() {

@@ -57,7 +57,7 @@ void Solver::buildPlan() {
                                  // The last substep's pressure acceleration, in the store so
                                  // that it follows the particles through reorder, emitters and
                                  // checkpoints; dropped while the warm start is off.
-                                 p.solveAcceleration.resize(warmStartOn(s) ? p.size() : 0);
+                                 p.keepOptionalField(ParticleField::solveAcceleration, warmStartOn(s));
                              }});
     plan_.add(Part::Before, {Stage::WarmStart,
                              [](SolverStep& s) {
