@@ -106,3 +106,23 @@ def _group(params, path):
     for part in path.split(".")[:-1]:
         params = getattr(params, part)
     return params
+
+
+def test_surface_tension_and_adhesion(small_world):
+    # Surface tension is a live setting like the others (off by default);
+    # adhesion belongs to the definition's solids and bodies.
+    s = small_world.settings
+    assert s.surface_tension == 0.0 and s.wall_adhesion == 0.0
+    s.surface_tension = 0.0728
+    s["solver.wall_adhesion"] = 0.5
+    assert s["fluid.surface_tension"] == pytest.approx(0.0728) and s.wall_adhesion == 0.5
+    small_world.step_frame()
+    with pytest.raises(pbf.SceneError, match="fluid.surface_tension"):
+        s.surface_tension = -1.0
+    solid = pbf.SolidDescription.sphere((0.1, 0.1, 0.1), 0.05)
+    solid.adhesion = 0.7
+    assert solid.adhesion == pytest.approx(0.7)
+    body = pbf.RigidBodyDescription(solid, density=500.0)
+    assert body.adhesion == pytest.approx(0.7)
+    body.adhesion = 0.2
+    assert body.shape.adhesion == pytest.approx(0.2)
