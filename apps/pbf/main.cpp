@@ -6,8 +6,8 @@
 
 #include "commands.hpp"
 #include "console.hpp"
-#include "pbf/distributed.hpp"
-#include "pbf/version.hpp"
+#include "pbf/core/distributed.hpp"
+#include "pbf/core/version.hpp"
 
 namespace {
 

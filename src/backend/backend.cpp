@@ -1,5 +1,5 @@
 // The backend factory and the parts of the seam every backend shares.
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 #include <stdexcept>
 #include <string>

@@ -19,22 +19,22 @@
 #include <string_view>
 #include <vector>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf {
 
 // Every stage any backend runs, in the order a step runs them.
 enum class Stage {
     // Before the iterations (Alg. 1 l. 1-7).
-    Predict,          // v += dt g; x* = x + dt v
-    WarmStart,        // x* += w dt^2 a (solver.warm_start)
-    CollideSolids,    // swept collision of x -> x* with the solids
-    Distribute,       // MPI: migration to the slab owners, ghosts added
-    SortByCell,       // cell of each particle, counting sort
-    Reorder,          // every particle field permuted into cell order
-    NeighborLists,    // distance tests, neighbour lists
-    OwnedRange,       // MPI: which of the sorted particles this process computes
-    PackPositions,    // x* into the iterations' packed records
+    Predict,        // v += dt g; x* = x + dt v
+    WarmStart,      // x* += w dt^2 a (solver.warm_start)
+    CollideSolids,  // swept collision of x -> x* with the solids
+    Distribute,     // MPI: migration to the slab owners, ghosts added
+    SortByCell,     // cell of each particle, counting sort
+    Reorder,        // every particle field permuted into cell order
+    NeighborLists,  // distance tests, neighbour lists
+    OwnedRange,     // MPI: which of the sorted particles this process computes
+    PackPositions,  // x* into the iterations' packed records
     // One density iteration (Alg. 1 l. 8-19).
     DensityAndLambda,   // rho_i, lambda_i
     ExchangeLambda,     // MPI: ghosts' lambda and density
@@ -120,8 +120,12 @@ class StepPlan {
 
     // Inserts `entry` right after (before) the stage `anchor` (throws
     // std::logic_error when the plan has no such stage).
-    void insertAfter(Stage anchor, StageEntry<Context> entry) { insert(anchor, 1, std::move(entry)); }
-    void insertBefore(Stage anchor, StageEntry<Context> entry) { insert(anchor, 0, std::move(entry)); }
+    void insertAfter(Stage anchor, StageEntry<Context> entry) {
+        insert(anchor, 1, std::move(entry));
+    }
+    void insertBefore(Stage anchor, StageEntry<Context> entry) {
+        insert(anchor, 0, std::move(entry));
+    }
 
     // The stages of a part, in order (for tests and `pbf bench`).
     std::vector<Stage> stages(Part part) const {

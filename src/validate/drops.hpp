@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::validation::detail {
 

@@ -1,4 +1,4 @@
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 #include <fmt/format.h>
 
@@ -8,8 +8,8 @@
 #include <exception>
 #include <utility>
 
-#include "pbf/param_table.hpp"
-#include "world/rigid_bodies.hpp"
+#include "bodies/rigid_bodies.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf {
 

@@ -19,7 +19,7 @@
 #include "backend/mpi/particle_record.hpp"
 #include "io/binary_stream.hpp"
 #include "io/checkpoint_particles.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 #ifndef PBF_TEST_EXTRA_FIELDS
 #error "built with the extra fields only (tests/CMakeLists.txt: pbf_particle_fields_tests)"

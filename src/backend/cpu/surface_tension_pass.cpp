@@ -12,13 +12,13 @@
 
 #include <cstddef>
 
+#include "backend/boundary.hpp"
 #include "backend/cpu/simd-inl.h"
 // After simd-inl.h: the neighbour-batch helpers (per target, like it).
 #include "backend/cpu/pair_loops-inl.h"
 #include "backend/cpu/solver_stages.hpp"
+#include "backend/reactions.hpp"
 #include "backend/reference/equations.hpp"
-#include "core/boundary.hpp"
-#include "core/reactions.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace pbf::stages::HWY_NAMESPACE {

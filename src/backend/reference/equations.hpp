@@ -14,14 +14,14 @@
 //   C_i = rho_i/rho0 - 1 with rho_i a mass density).
 //   The kernels return 0 outside their support (r >= h): a pair that moved
 //   apart since the neighbour search adds nothing.
-//   The walls and solids (core/boundary.hpp) act as the rest lattice
+//   The walls and solids (backend/boundary.hpp) act as the rest lattice
 //   continued beyond their surface: they add a kernel sum (1/m^3) to the
 //   density and its gradient (1/m^4) to grad_i C_i, and carry no lambda.
 #pragma once
 
-#include "pbf/config.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::reference {
 
@@ -254,7 +254,7 @@ PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij, bool 
 }
 
 // Adhesion (Akinci, Akinci & Teschner 2013, eq. 6, with the distance-field
-// boundary of core/boundary.hpp): a wall or solid pulls a particle as the
+// boundary of backend/boundary.hpp): a wall or solid pulls a particle as the
 // rest lattice continued beyond its surface would through the pair
 // potential U(r) = -k m^2 W_poly6(max(r, d)), weighted by its adhesion a;
 // `pull` is the weighted WallTable::cohesionSum (m^5, into the boundary). k

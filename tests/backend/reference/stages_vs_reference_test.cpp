@@ -7,7 +7,7 @@
 //
 // Both implementations compute the same formulas from the same float inputs
 // (x*, x, the shared constants of SolverConstants, the walls' and solids'
-// terms from core/boundary.hpp), in different orders: the SIMD code sums by
+// terms from backend/boundary.hpp), in different orders: the SIMD code sums by
 // lanes and tree sums, applies the kernels' coefficients after the sum, and
 // gets 1/r from a hardware estimate refined by one Newton step; the
 // reference sums in list order with the coefficients in every term and
@@ -56,7 +56,7 @@
 //     pair with r^2 within rounding of d^2 is ambiguous like one at h, but
 //     its term is not small; it is added whole to E (such pairs are rare in
 //     random clouds). Both implementations get the same densities (so the
-//     same surface flags s) and the same adhesion (core/boundary.hpp on the
+//     same surface flags s) and the same adhesion (backend/boundary.hpp on the
 //     same x), added in the same order; v + dt a rounds twice.
 //   * Pairs at r ~ h: the lists and the kernels' support tests compare the
 //     rounded r^2 with h^2, so a pair with |r^2 - h^2| within the rounding
@@ -90,15 +90,15 @@
 #include <string>
 #include <vector>
 
+#include "backend/boundary.hpp"
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver_stages.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/error_bound.hpp"
 #include "backend/reference/neighbor_grid.hpp"
 #include "backend/reference/particle_sums.hpp"
-#include "core/boundary.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::test {
 namespace {
@@ -260,8 +260,8 @@ SimdResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
                                         withLambda.data(), b, e);
     });
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(), corrected.data(),
-                                 b, e);
+        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(),
+                                 corrected.data(), b, e);
     });
     // The post-process at the uncorrected x* (any positions do).
     Float3Array velocity;
