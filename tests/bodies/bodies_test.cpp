@@ -357,6 +357,9 @@ TEST(BodiesInput, BadBodiesAreRefusedNamingFileAndField) {
         {"{" + box + "}", R"(rigid_bodies\[0\].density: give exactly one of density)"},
         {"{" + box + R"(, "density": 500, "friction": -1})",
          R"(rigid_bodies\[0\].friction: must be in \[0, 10\])"},
+        // Wetting (surface tension): the work of adhesion in units of 2 sigma.
+        {"{" + box + R"(, "density": 500, "adhesion": 1.5})",
+         R"(bad.json: rigid_bodies\[0\].adhesion: must be in \[0, 1\])"},
         {R"({"type": "plane", "point": [0, 0.3, 0], "density": 500})",
          R"(rigid_bodies\[0\].type: expected "box", "sphere", "cylinder" or "mesh")"},
         // Overlaps at the start: another body, a solid, the domain walls.
@@ -378,6 +381,11 @@ TEST(BodiesInput, BadBodiesAreRefusedNamingFileAndField) {
             "{" + box + R"(, "density": 500})",
             R"("solids": [{"type": "sphere", "center": [0.15, 0.4, 0.15], "radius": 0.05}],)"),
         ::testing::ContainsRegex(R"(rigid_bodies\[0\] overlaps solids\[0\])"));
+    EXPECT_THAT(
+        sceneError(
+            "{" + box + R"(, "density": 500})",
+            R"("solids": [{"type": "sphere", "center": [0.45, 0.4, 0.3], "radius": 0.03, "adhesion": -0.1}],)"),
+        ::testing::ContainsRegex(R"(bad.json: solids\[0\].adhesion: must be in \[0, 1\])"));
     EXPECT_EQ(sceneError("{" + box + R"(, "density": 500})"), "no error");
 }
 

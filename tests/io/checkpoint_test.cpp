@@ -229,6 +229,43 @@ TEST(Checkpoint, ResumeWithEmittersAndSolidsIsBitIdentical) {
     fs::remove_all(crashed);
 }
 
+// Surface tension keeps no state between steps (the surface flags come from
+// each step's densities, the capillary time step from the parameters), so a
+// resumed run continues with the same bits; this fails if the pass ever
+// reads something a checkpoint does not store. A checkpoint of a run with
+// another surface tension is refused (the fingerprint holds the parameter).
+TEST(Checkpoint, ResumeWithSurfaceTensionIsBitIdentical) {
+    const pbf::test::ThreadCountScope oneThread(1);
+    const pbf::Scene scene = smallDamBreak({pbf::parseOverride("fluid.surface_tension=0.0728"),
+                                            pbf::parseOverride("solver.wall_adhesion=0.5")});
+    const fs::path straight = freshTestDirectory("tension_straight");
+    pbf::runScene(withOutput(scene, straight, kFrames), {});
+    const fs::path crashed = freshTestDirectory("tension_crashed");
+    pbf::RunOptions options;
+    options.onFrame = [](const pbf::FrameReport& r) {
+        if (r.frame == 5) throw std::runtime_error("simulated crash");
+    };
+    EXPECT_THROW(pbf::runScene(withOutput(scene, crashed, kFrames), options), std::runtime_error);
+    options.onFrame = nullptr;
+    options.resume = true;
+    const pbf::Scene weaker = smallDamBreak({pbf::parseOverride("fluid.surface_tension=0.05"),
+                                             pbf::parseOverride("solver.wall_adhesion=0.5")});
+    EXPECT_NE(expectIoError([&] {
+                  pbf::runScene(withOutput(weaker, crashed, kFrames), options);
+              }).find("different scene"),
+              std::string::npos);
+    EXPECT_EQ(pbf::runScene(withOutput(scene, crashed, kFrames), options).resumedFromFrame, 3);
+    expectSameFrames(straight, crashed, 0, kFrames);
+    // The pass ran: without surface tension the last frame differs.
+    const fs::path plain = freshTestDirectory("tension_plain");
+    pbf::runScene(withOutput(smallDamBreak(), plain, kFrames), {});
+    EXPECT_NE(fileBytes(plain / pbf::frameFileName(kFrames)),
+              fileBytes(straight / pbf::frameFileName(kFrames)));
+    fs::remove_all(straight);
+    fs::remove_all(crashed);
+    fs::remove_all(plain);
+}
+
 // The warm start carries each particle's last solve acceleration from step
 // to step; the checkpoint stores it (format 4), so a resumed run continues
 // with the same bits. Checked that this can fail: with the array left out
