@@ -102,8 +102,9 @@ TEST(ValidationCases, AllRegisteredWithUniqueNames) {
         EXPECT_EQ(std::count(names.begin(), names.end(), c.name), 0) << c.name;
         names.push_back(c.name);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"martin_moyce", "hydrostatic", "free_fall",
-                                               "momentum", "taylor_green", "archimedes"}));
+    EXPECT_EQ(names, (std::vector<std::string>{
+                         "martin_moyce", "hydrostatic", "free_fall", "momentum", "taylor_green",
+                         "archimedes", "rayleigh_drop", "cube_to_sphere", "laplace", "wetting"}));
 }
 
 }  // namespace
