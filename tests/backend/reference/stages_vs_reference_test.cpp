@@ -36,7 +36,7 @@
 //       omega     m/rho_j cS (h - r)^2 / r dx (one factor of the cross product) k = 7
 //       cohesion  S (s_i + s_j) (h^2 - r^2)^2 dx, S = cohesionScale         k = 4
 //                 (ref: S pairs, q, q, times dx; simd: q q, pairs, S after the sum)
-//       its core  S 2 L (r_c^2 - r^2)^2 dx (every pair)                    k = 6
+//       its core  S 2 L (r_c - r)^2 / r dx (every pair)                    k = 6
 //   * Cancellation in the kernels' arguments: r^2 = dx^2 + dy^2 + dz^2 has
 //     relative error gamma_3 (positive terms, any order, with or without FMA),
 //     so h^2 - r^2 has the absolute error gamma_3 r^2 + u |h^2 - r^2|, which
@@ -503,12 +503,13 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
         model.vorticity.push_back(om);
     }
 
-    // Surface tension: the cohesion -S (s_i + s_j) w(r) dx with the same
-    // surface flags, w = (h^2 - r^2)^2 for d < r < h and -L (r_c^2 - r^2)^2
-    // below r_c, plus the shared adhesion.
+    // Surface tension: the cohesion -S w(r) dx with the same surface flags,
+    // w = (s_i + s_j) (h^2 - r^2)^2 for d < r < h and -2 L (r_c - r)^2 / r
+    // below r_c (every pair), plus the shared adhesion.
     const SolverConstants cs = surfaceTensionConstants(cloud);
     const double cohesionScale = cs.cohesionScale, d2 = cs.cohesionMinDistance2;
-    const double rc2 = cs.cohesionCoreDistance2, coreScale = cs.cohesionCoreScale;
+    const double rc2 = cs.cohesionCoreDistance2, rc = cs.cohesionCoreDistance;
+    const double coreScale = cs.cohesionCoreScale;
     for (std::size_t i = 0; i < n; ++i) {
         const int surfaceI = reference::onSurface(cs, simdDensity[i]) ? 1 : 0;
         std::vector<Bound> terms[3];
@@ -532,8 +533,10 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
             const bool inside = p.r2 < rc2;
             const bool atCore = std::fabs(p.r2 - rc2) <= edge * rc2;
             if (inside || atCore) {
-                const Bound core = rounded(sub(exact(rc2), r2), 1);
-                const Bound w = scale(mul(core, core), -2.0 * coreScale);
+                // -2 L (r_c - r)^2 / r, r and 1/r as the spiky kernel's.
+                const Bound r = relative(exact(std::sqrt(p.r2)), epsR);
+                const Bound gap = rounded(sub(exact(rc), r), 1);
+                const Bound w = scale(mul(mul(gap, gap), p.inverseR), -2.0 * coreScale);
                 for (int a = 0; a < 3; ++a) {
                     Bound t = rounded(scale(w, -cohesionScale * p.dx[a]), 6);
                     if (atCore) t = {inside ? t.v : 0.0, std::fabs(t.v) + t.e};
