@@ -199,25 +199,22 @@ void Solver::buildPlan() {
     // Surface tension (issue 27): cohesion of the surface layer and
     // adhesion, v += dt a at x*. Reads the neighbours' x* and density (the
     // ghosts' are current after the iterations): no exchange of its own.
-    plan_.add(Part::After, {Stage::SurfaceTension,
-                            [this](SolverStep& s) {
-                                const SolverConstants& c = s.context.constants;
-                                PackedPoint* positionDensity = s.withLambda;  // (v, rho) is read no more
-                                forAll(s, [&](std::size_t b, std::size_t e) {
-                                    stages::packPositionDensities(
-                                        s.predicted, s.particles.density.data(), positionDensity, b,
-                                        e);
-                                });
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applySurfaceTension(
-                                        c, s.context.params.solver.wallAdhesion, s.solids, s.dt,
-                                        s.reactions, search_, positionDensity,
-                                        s.particles.velocity, b, e);
-                                });
-                            },
-                            [](const SolverStep& s) {
-                                return s.context.constants.cohesionScale > 0.0f;
-                            }});
+    plan_.add(Part::After,
+              {Stage::SurfaceTension,
+               [this](SolverStep& s) {
+                   const SolverConstants& c = s.context.constants;
+                   PackedPoint* positionDensity = s.withLambda;  // (v, rho) is read no more
+                   forAll(s, [&](std::size_t b, std::size_t e) {
+                       stages::packPositionDensities(s.predicted, s.particles.density.data(),
+                                                     positionDensity, b, e);
+                   });
+                   forOwned(s, [&](std::size_t b, std::size_t e) {
+                       stages::applySurfaceTension(c, s.context.params.solver.wallAdhesion,
+                                                   s.solids, s.dt, s.reactions, search_,
+                                                   positionDensity, s.particles.velocity, b, e);
+                   });
+               },
+               [](const SolverStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
     plan_.add(Part::After, {Stage::BoundaryResponse, [](SolverStep& s) {
                                 const SolverParams& solver = s.context.params.solver;
                                 ParticleStore& p = s.particles;
