@@ -174,7 +174,7 @@ const ParamInfo kTable[] = {
     PBF_PARAM(SolverParams, maxTimeStep, "solver.max_time_step", "max_time_step", "s",
               openClosed(0.0, 1.0), kLive, "adaptive: upper bound of a substep", "", "1/240"),
     PBF_PARAM(SolverParams, maxSubsteps, "solver.max_substeps", "max_substeps", "",
-              closed(1, 10000), kLive, "adaptive: at most this many substeps per frame"),
+              closed(1, 10000), kLive, "adaptive: at most this many substeps per frame (surface tension's capillary time step, a limit of stability, overrides it)"),
     PBF_PARAM(SolverParams, fixedSubsteps, "solver.substeps", "substeps", "", closed(1, 10000),
               kLive, "fixed: substeps per frame"),
     PBF_PARAM(SolverParams, restitution, "solver.restitution", "restitution", "1",

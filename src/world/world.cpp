@@ -89,9 +89,11 @@ double World::adaptiveSubstep(double remaining) const {
     const double speed = fastest + length(settings_.gravity) * maxDt;
     double dt = maxDt;
     if (speed > 0.0) dt = std::min(dt, s.cfl * settings_.particleSpacing() / speed);
-    // Surface tension is explicit: capillary waves limit the step (infinite when off).
-    dt = std::min(dt, double(constants_.capillaryTimeStep));
     dt = std::max(dt, frameDuration() / s.maxSubsteps);
+    // Surface tension is explicit: capillary waves limit the step (infinite
+    // when off). A limit of stability, so it overrides max_substeps too:
+    // above it the cohesion flings particles off at tens of m/s.
+    dt = std::min(dt, double(constants_.capillaryTimeStep));
     const double steps = std::max(1.0, std::ceil(remaining / dt - 1e-6));
     return remaining / steps;
 }

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
+#include "pbf/core/solver_constants.hpp"
 #include "pbf/io/scene.hpp"
 #include "support/reliability_util.hpp"
 #include "support/test_util.hpp"
@@ -38,6 +40,32 @@ TEST(World, BuiltInCodeFromADefinition) {
     EXPECT_NEAR(world.time(), 1.0 / 30.0, 1e-12);
     EXPECT_GT(r.substeps, 0);
     EXPECT_GT(r.state.kineticEnergy, 0.0);  // the column started to collapse
+}
+
+// Surface tension is an explicit force: its capillary time step is a limit
+// of stability and must win over solver.max_substeps. Catches the floor
+// frame / max_substeps applied after the capillary limit: then this 0.25 mm
+// lattice takes 10 substeps of 1 ms (about 30 times the limit) and the
+// cohesion flings particles off at tens of m/s (what stopped
+// `pbf validate wetting` at full resolution).
+TEST(World, CapillaryTimeStepOverridesMaxSubsteps) {
+    pbf::WorldDef def;
+    def.name = "capillary";
+    def.simulation.domain = {{-0.004f, 0.0f, -0.004f}, {0.004f, 0.008f, 0.004f}};
+    def.simulation.particleRadius = 0.000125f;
+    def.simulation.fluid.surfaceTension = 0.0728f;
+    def.simulation.solver.maxSubsteps = 10;
+    def.fps = 100.0f;
+    def.fluidBlocks.push_back({{{-0.00075f, 0.0f, -0.00075f}, {0.00075f, 0.0015f, 0.00075f}}, {}});
+    pbf::World world(def);
+    ASSERT_EQ(world.particleCount(), 216u);
+    const double capillary = pbf::SolverConstants::from(def.simulation).capillaryTimeStep;
+    ASSERT_LT(capillary, 0.01 / 10);  // the cap alone would allow a longer substep
+    for (int frame = 0; frame < 3; ++frame) {
+        const pbf::FrameReport r = stepFrame(world);
+        EXPECT_GE(r.substeps, int(std::ceil(0.01 / capillary - 1e-6))) << frame;
+        EXPECT_LT(r.state.maxSpeed, 3.0) << frame;
+    }
 }
 
 TEST(World, InvalidDefinitionsNameTheField) {
