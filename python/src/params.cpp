@@ -81,7 +81,9 @@ void bindSolver(py::module_& m) {
         .def_readwrite("max_iterations", &SolverParams::maxIterations,
                        "with max_density_error, [1, 1000]")
         .def_property("over_relaxation", floatGetter(&SolverParams::overRelaxation),
-                      floatSetter(&SolverParams::overRelaxation), "Jacobi omega, [0.5, 1.5]")
+                      floatSetter(&SolverParams::overRelaxation),
+                      "Jacobi omega, [0.5, 1.5]; -1 (default): automatic, 1.2 with "
+                      "max_density_error > 0, else 1")
         .def_property("warm_start", floatGetter(&SolverParams::warmStart),
                       floatSetter(&SolverParams::warmStart),
                       "fraction of the last pressure acceleration, [0, 1]")

@@ -68,8 +68,10 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("solver.min_iterations", s.minIterations, 0, s.maxIterations);
     if (!inRange(s.warmStart, 0.0f, 1.0f))
         return outOfRange("solver.warm_start", s.warmStart, 0.0f, 1.0f);
-    if (!inRange(s.overRelaxation, 0.5f, 1.5f))
-        return outOfRange("solver.over_relaxation", s.overRelaxation, 0.5f, 1.5f);
+    // kAutomatic (-1) is the default: the solver chooses (params.hpp).
+    if (s.overRelaxation != kAutomatic && !inRange(s.overRelaxation, 0.5f, 1.5f))
+        return outOfRange("solver.over_relaxation", s.overRelaxation, 0.5f, 1.5f) +
+               " (or -1: automatic)";
     if (!inRange(s.relaxation, 1e-6f, 10.0f))
         return outOfRange("solver.relaxation", s.relaxation, 1e-6f, 10.0f);
     if (!inRange(s.artificialPressure.k, 0.0f, 1.0f))
