@@ -17,8 +17,18 @@ namespace pbf {
 struct FluidParams {
     float restDensity = 1000.0f;  // rho0, kg/m^3, (0, 1e5]
     // XSPH viscosity c (Schechter & Bridson 2012, paper eq. 17), dimensionless
-    // because the sum is weighted by particle volume: [0, 1].
+    // because the sum is weighted by particle volume: [0, 1]. A smoothing of
+    // the velocities by a share c per substep, not a material viscosity: its
+    // effect depends on the time step and the resolution (docs/validation.md,
+    // "Viscosity"). For a viscosity in m^2/s use kinematicViscosity.
     float viscosity = 0.01f;
+    // Kinematic viscosity nu, m^2/s, [0, 1]: the SPH Laplacian of the
+    // velocity (reference::viscosityTerm), checked against the Taylor-Green
+    // vortex's decay exp(-2 nu k^2 t). 0 (the default): none; water is
+    // 1.0e-6, far below PBF's own numerical dissipation at usual
+    // resolutions. Explicit: the adaptive substep keeps dt <= 0.05
+    // (2 r)^2 / nu.
+    float kinematicViscosity = 0.0f;
     // Vorticity confinement epsilon (paper eq. 16, Fedkiw et al. 2001),
     // dimensionless: acceleration = epsilon * h * |omega| * (N x omega). [0, 10].
     float vorticity = 0.0f;

@@ -47,11 +47,15 @@ void bindFluid(py::module_& m) {
         .def_property("rest_density", floatGetter(&FluidParams::restDensity),
                       floatSetter(&FluidParams::restDensity), "kg/m^3, (0, 1e5]")
         .def_property("viscosity", floatGetter(&FluidParams::viscosity),
-                      floatSetter(&FluidParams::viscosity), "XSPH c, [0, 1]")
+                      floatSetter(&FluidParams::viscosity),
+                      "XSPH c, [0, 1] (a smoothing, not a viscosity in m^2/s)")
+        .def_property("kinematic_viscosity", floatGetter(&FluidParams::kinematicViscosity),
+                      floatSetter(&FluidParams::kinematicViscosity), "nu, m^2/s, [0, 1]")
         .def_property("vorticity", floatGetter(&FluidParams::vorticity),
                       floatSetter(&FluidParams::vorticity), "confinement epsilon, [0, 10]")
         .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "FluidParams", {"rest_density", "viscosity", "vorticity"});
+            return reprOf(self, "FluidParams",
+                          {"rest_density", "viscosity", "kinematic_viscosity", "vorticity"});
         });
 }
 

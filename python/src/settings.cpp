@@ -87,6 +87,8 @@ const Field kFields[] = {
                 "wall restitution, [0, 1]"),
     PBF_SETTING("friction", "solver.friction", float, solver.friction, "wall friction, [0, 1]"),
     PBF_SETTING("viscosity", "fluid.viscosity", float, fluid.viscosity, "XSPH c, [0, 1]"),
+    PBF_SETTING("kinematic_viscosity", "fluid.kinematic_viscosity", float, fluid.kinematicViscosity,
+                "nu, m^2/s, [0, 1]"),
     PBF_SETTING("vorticity", "fluid.vorticity", float, fluid.vorticity,
                 "vorticity confinement epsilon, [0, 10]"),
     PBF_SETTING("rest_density", "fluid.rest_density", float, fluid.restDensity, "kg/m^3, (0, 1e5]"),

@@ -54,6 +54,8 @@ std::string validate(const SimulationParams& p) {
         return outOfRange("fluid.rest_density", f.restDensity, 0.0f, 1e5f);
     if (!inRange(f.viscosity, 0.0f, 1.0f))
         return outOfRange("fluid.viscosity", f.viscosity, 0.0f, 1.0f);
+    if (!inRange(f.kinematicViscosity, 0.0f, 1.0f))
+        return outOfRange("fluid.kinematic_viscosity", f.kinematicViscosity, 0.0f, 1.0f);
     if (!inRange(f.vorticity, 0.0f, 10.0f))
         return outOfRange("fluid.vorticity", f.vorticity, 0.0f, 10.0f);
 

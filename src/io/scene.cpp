@@ -389,6 +389,8 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         JsonReader f = root.object("fluid");
         sim.fluid.restDensity = f.number("rest_density", sim.fluid.restDensity);
         sim.fluid.viscosity = f.number("viscosity", sim.fluid.viscosity);
+        sim.fluid.kinematicViscosity =
+            f.number("kinematic_viscosity", sim.fluid.kinematicViscosity);
         sim.fluid.vorticity = f.number("vorticity", sim.fluid.vorticity);
         f.finish();
     }

@@ -163,6 +163,15 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
                 withVorticity ? &vorticity_ : nullptr, p.velocity, b, e);
         });
     }
+    // The physical viscosity (fluid.kinematic_viscosity) reads the packed
+    // velocities as XSPH does and adds dt a to the velocity XSPH wrote
+    // (XSPH sets v from the packed copy, so it must come first).
+    if (fluid.kinematicViscosity > 0.0f) {
+        forOwned([&](std::size_t b, std::size_t e) {
+            stages::applyPhysicalViscosity(c, fluid.kinematicViscosity, dt, search_, predicted,
+                                           velocityDensity, p.velocity, b, e);
+        });
+    }
     if (withVorticity) {
         if (halo) exchange(vorticity_);
         forOwned([&](std::size_t b, std::size_t e) {
