@@ -10,10 +10,12 @@ Case freeFallCase();
 Case momentumCase();
 Case taylorGreenCase();
 Case archimedesCase();
+Case heaveCase();
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(), freeFallCase(),
-                                       momentumCase(),    taylorGreenCase(), archimedesCase()};
+                                       momentumCase(),    taylorGreenCase(), archimedesCase(),
+                                       heaveCase()};
     return all;
 }
 

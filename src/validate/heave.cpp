@@ -1,0 +1,202 @@
+// Heave: a floating sphere pushed down and released bobs at its natural
+// period, T = 2 pi sqrt((m + A) / (rho0 g A_w)): its mass m, the added mass
+// A of the water it moves, and the restoring force of the waterplane
+// A_w = pi a^2 (issue 28: a convergence check of the two-way coupling in
+// motion, where Archimedes checks it at rest).
+//
+// A sphere of radius a and density rho0 / 2 floats half submerged: m is the
+// displaced mass rho0 (2/3) pi a^3, and T = 2 pi sqrt(2 a (1 + mu) / (3 g))
+// with mu = A / m. The added mass of a floating body depends on the
+// frequency. Its high-frequency limit is exact: the free surface acts as a
+// mirror that makes the hemisphere half of a whole sphere moving in an
+// unbounded fluid, whose added mass is half its displaced mass, so mu = 1/2
+// (Lamb, Hydrodynamics, sec. 92, with the image of the free surface for
+// phi = 0). Towards low frequencies it rises to 0.83 (Hulme 1982, "The wave
+// forces acting on a floating hemisphere undergoing forced periodic
+// oscillations", J. Fluid Mech. 121, 443-463). The estimate uses mu = 1/2;
+// the low-frequency value would lengthen the period by 11 %, which bounds
+// the estimate's own uncertainty.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "pbf/world.hpp"
+#include "validate/measure.hpp"
+
+namespace pbf::validation {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr float kRadius = 0.05f;     // a, m
+constexpr float kPush = 0.01f;       // m: held this much deeper than floating, then released
+constexpr double kSettle = 0.5;      // s: the water settles around the held sphere
+constexpr double kFollow = 1.3;      // s: followed after the release (about three periods)
+constexpr double kClearance = 0.15;  // m: the level is read this far from the sphere
+constexpr double kMuHigh = 0.5;      // added mass / displaced mass, high-frequency limit
+constexpr double kMuLow = 0.831;     // the low-frequency limit (Hulme 1982)
+
+double period(double mu) {
+    return 2.0 * std::numbers::pi * std::sqrt(2.0 * kRadius * (1.0 + mu) / (3.0 * kG));
+}
+
+struct Bobbing {
+    float radius = 0.0f;  // particle radius
+    std::size_t particles = 0;
+    std::vector<double> t, offset;  // after the release: centre minus water level, m
+    std::vector<double> crossings;  // times the offset crosses zero, s
+    double period = 0.0;            // mean of the full periods between crossings, s
+};
+
+Bobbing bob(float radius, const Options& options) {
+    WorldDef def;
+    def.name = "heave";
+    def.simulation.domain = {{0, 0, 0}, {0.5f, 0.35f, 0.5f}};
+    def.simulation.particleRadius = radius;
+    def.simulation.solver.maxTimeStep = float(detail::restingTimeStep(radius));
+    def.fluidBlocks.push_back({{{0, 0, 0}, {0.5f, 0.2f, 0.5f}}, {}});
+    def.fps = 250.0f;  // samples every 4 ms: ~110 per period
+    RigidBodyDescription sphere;
+    sphere.shape.kind = SolidDescription::Kind::Sphere;
+    sphere.shape.center = {0.25f, 0.2f, 0.25f};
+    sphere.shape.radius = kRadius;
+    sphere.density = 500.0f;
+    def.rigidBodies.push_back(sphere);
+    World world(def);
+    Bobbing b;
+    b.radius = radius;
+    b.particles = world.particleCount();
+    // Held kPush below floating (its centre at the water level) while the
+    // water settles around it.
+    RigidBodyState held = world.bodyStates()[0];
+    while (world.time() < kSettle - 1e-9) {
+        const double level = detail::waterLevel(world, kClearance);
+        held.position.y = float(level) - kPush;
+        held.velocity = {};
+        held.angularVelocity = {};
+        world.setBodyState(0, held);
+        detail::step(world);
+    }
+    held.position.y = float(detail::waterLevel(world, kClearance)) - kPush;
+    world.setBodyState(0, held);
+    const double release = world.time();
+    while (world.time() < release + kFollow - 1e-9) {
+        detail::step(world);
+        b.t.push_back(world.time() - release);
+        b.offset.push_back(double(world.bodyStates()[0].position.y) -
+                           detail::waterLevel(world, kClearance));
+    }
+    // Crossings of the equilibrium: the mean offset over the last 0.45 s
+    // (about one period, the motion mostly damped by then); a resolution's
+    // floating depth differs from the level by up to a radius.
+    double equilibrium = 0.0;
+    int late = 0;
+    for (std::size_t k = 0; k < b.t.size(); ++k)
+        if (b.t[k] > kFollow - 0.45) {
+            equilibrium += b.offset[k];
+            ++late;
+        }
+    equilibrium /= std::max(1, late);
+    for (std::size_t k = 1; k < b.t.size(); ++k) {
+        const double before = b.offset[k - 1] - equilibrium, after = b.offset[k] - equilibrium;
+        if ((before < 0.0) != (after < 0.0)) {
+            const double w = before / (before - after);
+            b.crossings.push_back(b.t[k - 1] + w * (b.t[k] - b.t[k - 1]));
+        }
+    }
+    // Full periods between every other crossing, averaged.
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t k = 2; k < b.crossings.size(); ++k) {
+        sum += b.crossings[k] - b.crossings[k - 2];
+        ++count;
+    }
+    b.period = count > 0 ? sum / count : std::numeric_limits<double>::quiet_NaN();
+    if (options.progress)
+        options.progress(
+            fmt::format("heave: radius {} m ({} particles): period {:.4f} s from {} "
+                        "crossings",
+                        radius, b.particles, b.period, b.crossings.size()));
+    return b;
+}
+
+CaseResult run(const Options& options) {
+    CaseResult result;
+    result.name = "heave";
+    result.title = "Heave of a floating sphere: natural period against the added-mass estimate";
+    const std::vector<float> radii = options.quick ? std::vector<float>{0.01f, 0.00707f}
+                                                   : std::vector<float>{0.01f, 0.00707f, 0.005f};
+    std::vector<Bobbing> runs;
+    for (float r : radii) runs.push_back(bob(r, options));
+    const double estimate = period(kMuHigh);
+    const double tolerance = period(kMuLow) / estimate - 1.0;
+
+    plot::Panel motion{
+        "Sphere centre minus the water level after the release", "t (s)", "offset (m)", {}};
+    plot::Panel periods{
+        "Natural period against the added-mass estimate", "particle radius (mm)", "period (s)", {}};
+    std::vector<double> radiusMm, measured;
+    for (const Bobbing& b : runs) {
+        motion.series.push_back(detail::record(result, fmt::format("r = {:g} mm", 1e3 * b.radius),
+                                               "t_s", b.t, "offset_m", b.offset));
+        radiusMm.push_back(1e3 * b.radius);
+        measured.push_back(b.period);
+    }
+    periods.series.push_back(detail::record(result, "measured", "radius_mm", radiusMm, "period_s",
+                                            measured, plot::Style::Points));
+    periods.series.push_back(detail::record(result, "estimate, mu = 1/2", "radius_mm",
+                                            {radiusMm.front(), radiusMm.back()}, "period_s",
+                                            {estimate, estimate}, plot::Style::Dashed));
+    periods.series.push_back(detail::record(result, "low-frequency mu = 0.83", "radius_mm",
+                                            {radiusMm.front(), radiusMm.back()}, "period_s",
+                                            {period(kMuLow), period(kMuLow)}, plot::Style::Dashed));
+    result.figure = {result.title, {motion, periods}, 2};
+
+    const Bobbing& fine = runs.back();
+    result.checks.push_back(
+        {fmt::format("heave period (r = {:g} mm)", 1e3 * fine.radius), fine.period, estimate,
+         tolerance * estimate, "s",
+         "T = 2 pi sqrt(2 a (1 + mu) / (3 g)), mu = 1/2 (the added mass's exact high-frequency "
+         "limit)",
+         fmt::format("{:.0f} %: the added mass at the natural frequency lies between its high- "
+                     "and low-frequency limits (0.5 and 0.83 of the displaced mass, Hulme 1982); "
+                     "the low one lengthens the period by that much",
+                     100.0 * tolerance)});
+    Convergence study{"|T - T(mu = 1/2)| / T(mu = 1/2)", "particle radius (mm)", {}, {}};
+    for (const Bobbing& b : runs) {
+        study.h.push_back(1e3 * b.radius);
+        study.error.push_back(std::fabs(b.period / estimate - 1.0));
+    }
+    result.checks.push_back(convergenceCheck(
+        study,
+        "the sphere's boundary and the waves it makes are resolved better by finer "
+        "particles"));
+    result.convergence.push_back(std::move(study));
+    std::string rows;
+    for (const Bobbing& b : runs)
+        rows +=
+            fmt::format("| {:g} | {} | {} | {:.4f} | {:+.1f} % |\n", 1e3 * b.radius, b.particles,
+                        b.crossings.size(), b.period, 100.0 * (b.period / estimate - 1.0));
+    result.notes = fmt::format(
+        "A sphere of radius {} m and density 500 kg/m^3 (floating half submerged) in a 0.5 x 0.5 "
+        "m tank filled 0.2 m deep is held {} cm deeper than floating while the water settles "
+        "({} s), then released and followed for {} s. The offset is the sphere's centre minus "
+        "the water level (read as in the Archimedes case, farther than {} m from the sphere); "
+        "the period is the mean of the full periods between its zero crossings. Estimate: {:.4f} "
+        "s (mu = 1/2); with the low-frequency added mass (mu = 0.83) {:.4f} s.\n\n"
+        "| r (mm) | particles | zero crossings | period (s) | against the estimate |\n"
+        "| --- | --- | --- | --- | --- |\n{}",
+        kRadius, 100.0 * kPush, kSettle, kFollow, kClearance, estimate, period(kMuLow), rows);
+    return result;
+}
+
+}  // namespace
+
+Case heaveCase() {
+    return {"heave", "a floating sphere's heave period against its added-mass estimate", run,
+            /*resolutionStudy=*/true};
+}
+
+}  // namespace pbf::validation
