@@ -16,9 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "pbf/params.hpp"
-#include "pbf/vec3.hpp"
-#include "pbf/world_def.hpp"
+#include "pbf/core/param_table.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/world/world_def.hpp"
 
 // The definition's lists are bound as opaque Python lists (py::bind_vector)
 // so that `definition.fluid_blocks.append(block)` changes the definition;
@@ -84,18 +85,20 @@ namespace pbf::python {
 
 namespace py = pybind11;
 
-void bindErrors(py::module_& m);      // errors.cpp
-void bindParams(py::module_& m);      // params.cpp
-void bindDefinition(py::module_& m);  // definition.cpp
+void bindErrors(py::module_& m);           // errors.cpp
+void bindParams(py::module_& m);           // params.cpp
+void bindDefinition(py::module_& m);       // definition.cpp
 void bindBodyDescription(py::module_& m);  // bodies.cpp: pbf.RigidBodyDescription
-void bindSettings(py::module_& m);    // settings.cpp
-void bindWorld(py::module_& m);       // world.cpp
-void bindRun(py::module_& m);         // run.cpp
+void bindSettings(py::module_& m);         // settings.cpp
+void bindWorld(py::module_& m);            // world.cpp
+void bindRun(py::module_& m);              // run.cpp
 
-// "solver.time_step" as in scene files: "adaptive" or "fixed". The parser
-// throws SceneError naming `field`.
-const char* timeStepName(TimeStepMode mode);
-TimeStepMode parseTimeStep(const std::string& name, const std::string& field);
+// A parameter's value as Python shows it (floats through shortestDouble,
+// "solver.time_step" as its name), and a Python value as the parameter's
+// type (TypeError naming the parameter's path when it does not convert;
+// SceneError for an unknown time step name).
+py::object paramToPython(const ParamValue& value);
+ParamValue paramFromPython(const ParamInfo& param, const py::handle& value);
 
 // Getter and setter of a float field, shown through shortestDouble:
 // .def_property("cfl", floatGetter(&SolverParams::cfl), floatSetter(&SolverParams::cfl)).
@@ -110,5 +113,6 @@ auto floatSetter(float C::*member) {
 
 // "Type(a=1, b=(0.0, 1.0, 0.0))" from the Python attributes `fields` of `self`.
 std::string reprOf(py::handle self, const char* type, std::initializer_list<const char*> fields);
+std::string reprOf(py::handle self, const char* type, const std::vector<std::string>& fields);
 
 }  // namespace pbf::python

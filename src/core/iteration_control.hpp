@@ -12,7 +12,7 @@
 
 #include <cstdint>
 
-#include "pbf/params.hpp"
+#include "pbf/core/params.hpp"
 
 namespace pbf {
 

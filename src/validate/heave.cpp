@@ -23,7 +23,7 @@
 #include <limits>
 #include <numbers>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {

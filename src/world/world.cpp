@@ -1,4 +1,4 @@
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,8 @@
 #include <exception>
 #include <utility>
 
-#include "world/rigid_bodies.hpp"
+#include "bodies/rigid_bodies.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf {
 
@@ -42,13 +43,12 @@ void World::applySettings(const SimulationParams& settings) {
     const std::string prefix = def_.source.empty() ? "" : def_.source + ": ";
     if (const std::string problem = validate(settings); !problem.empty())
         throw SceneError(prefix + problem);
-    const SimulationParams& fixed = def_.simulation;
-    if (!(settings.domain == fixed.domain))
-        throw SceneError(prefix + "domain: cannot change while the world runs");
-    if (settings.particleRadius != fixed.particleRadius)
-        throw SceneError(prefix + "particle_radius: cannot change while the world runs");
-    if (settings.solver.kernelRadiusFactor != fixed.solver.kernelRadiusFactor)
-        throw SceneError(prefix + "solver.kernel_radius_factor: cannot change while the world runs");
+    // The parameters that shape the grid and the particles (the table's
+    // rows that are not live) belong to the definition.
+    for (const ParamInfo& param : paramTable())
+        if (!param.live && !(param.get(settings) == param.get(def_.simulation)))
+            throw SceneError(prefix + std::string(param.path) +
+                             ": cannot change while the world runs");
     settings_ = settings;
     constants_ = SolverConstants::from(settings_);
 }
@@ -275,8 +275,8 @@ void World::applyHostEdits() {
 
 void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
     if (i >= solids_->size())
-        throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) + " (the world has " +
-                                std::to_string(solids_->size()) + ")");
+        throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) +
+                                " (the world has " + std::to_string(solids_->size()) + ")");
     if (solids_->coupled(i))
         throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
                                     " is a rigid body's surface; use setBodyState");
@@ -326,9 +326,9 @@ WorldState World::captureState() const {
 
 void World::restoreState(WorldState state) {
     if (state.emitters.size() != emitters_.size())
-        throw std::invalid_argument("World::restoreState: " + std::to_string(state.emitters.size()) +
-                                    " emitter states for " + std::to_string(emitters_.size()) +
-                                    " emitters");
+        throw std::invalid_argument(
+            "World::restoreState: " + std::to_string(state.emitters.size()) +
+            " emitter states for " + std::to_string(emitters_.size()) + " emitters");
     if (state.bodies.size() != bodies_->size())
         throw std::invalid_argument("World::restoreState: " + std::to_string(state.bodies.size()) +
                                     " body states for " + std::to_string(bodies_->size()) +

@@ -1,5 +1,7 @@
 // Validation of a world definition and what is built from it: the solids and
 // the fluid blocks' particles.
+#include "pbf/world/world_def.hpp"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -7,9 +9,6 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include "pbf/scene.hpp"
-#include "pbf/world_def.hpp"
 
 namespace pbf {
 namespace {
@@ -55,8 +54,9 @@ std::string validateBlocks(const WorldDef& def) {
         const Vec3 e = block.box.extent();
         if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
             latticeCount(e.z, spacing) < 1)
-            return field + ".max: the block is empty: every side must be at least one particle "
-                           "spacing (2 r = " +
+            return field +
+                   ".max: the block is empty: every side must be at least one particle "
+                   "spacing (2 r = " +
                    std::to_string(spacing) + " m) long";
         for (std::size_t k = 0; k < i; ++k)
             if (overlaps(block.box, def.fluidBlocks[k].box))
@@ -107,7 +107,8 @@ std::string validateShape(const SolidDescription& d, const std::string& field) {
 
 std::string validateSolids(const WorldDef& def) {
     for (std::size_t i = 0; i < def.solids.size(); ++i)
-        if (std::string problem = validateShape(def.solids[i], fieldOf(def.solids[i].field, "solids", i));
+        if (std::string problem =
+                validateShape(def.solids[i], fieldOf(def.solids[i].field, "solids", i));
             !problem.empty())
             return problem;
     return {};
@@ -297,6 +298,19 @@ std::size_t availableMemoryBytes() {
     const long pages = ::sysconf(_SC_AVPHYS_PAGES);
     const long pageSize = ::sysconf(_SC_PAGESIZE);
     return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
+}
+
+double speedLimit(const WorldDef& def) {
+    if (def.guard.maxSpeed > 0.0f) return def.guard.maxSpeed;
+    const SimulationParams& sim = def.simulation;
+    const double diagonal = length(sim.domain.extent());
+    double reference = std::sqrt(2.0 * double(length(sim.gravity)) * diagonal);
+    double blockSpeed = 0.0;
+    for (const FluidBlock& b : def.fluidBlocks)
+        blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
+    reference += blockSpeed;
+    if (!(reference > 0.0)) reference = diagonal * def.fps;
+    return double(def.guard.maxSpeedFactor) * reference;
 }
 
 }  // namespace pbf

@@ -4,12 +4,12 @@
 #pragma once
 
 #include <filesystem>
-#include <string>
 #include <optional>
+#include <string>
 
+#include "pbf/io/scene.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/renderer.hpp"
-#include "pbf/scene.hpp"
 
 namespace pbf::render {
 

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::grid {
 

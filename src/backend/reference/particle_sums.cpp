@@ -1,12 +1,12 @@
 #include "backend/reference/particle_sums.hpp"
 
+#include "backend/boundary.hpp"
 #include "backend/reference/equations.hpp"
-#include "core/boundary.hpp"
 
 namespace pbf::reference {
 namespace {
 
-// The walls' and solids' kernel sum and its gradient at x (core/boundary.hpp).
+// The walls' and solids' kernel sum and its gradient at x (backend/boundary.hpp).
 struct BoundaryTerms {
     float kernelSum = 0.0f;
     Vec3 gradient;

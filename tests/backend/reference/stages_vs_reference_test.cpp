@@ -7,7 +7,7 @@
 //
 // Both implementations compute the same formulas from the same float inputs
 // (x*, x, the shared constants of SolverConstants, the walls' and solids'
-// terms from core/boundary.hpp), in different orders: the SIMD code sums by
+// terms from backend/boundary.hpp), in different orders: the SIMD code sums by
 // lanes and tree sums, applies the kernels' coefficients after the sum, and
 // gets 1/r from a hardware estimate refined by one Newton step; the
 // reference sums in list order with the coefficients in every term and
@@ -81,15 +81,15 @@
 #include <string>
 #include <vector>
 
+#include "backend/boundary.hpp"
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver_stages.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/error_bound.hpp"
 #include "backend/reference/neighbor_grid.hpp"
 #include "backend/reference/particle_sums.hpp"
-#include "core/boundary.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::test {
 namespace {
