@@ -274,9 +274,8 @@ std::string ParamInfo::check(const SimulationParams& params) const {
             const bool above = range.loOpen ? v > range.lo : v >= range.lo;
             const bool below = range.hiOpen ? v < hi : v <= hi;
             if (above && below) return {};  // NaN fails both
-            const std::string special = std::isnan(range.special)
-                                            ? ""
-                                            : " or " + number(range.special, type);
+            const std::string special =
+                std::isnan(range.special) ? "" : " or " + number(range.special, type);
             return field + ": must be in " + interval(range.lo, hi, range, type) + special +
                    ", got " + number(v, type);
         }

@@ -14,8 +14,8 @@
 #include <memory>
 
 #include "backend/boundary.hpp"
-#include "pbf/geometry/solids.hpp"
 #include "pbf/core/solver_constants.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf {
 namespace {
