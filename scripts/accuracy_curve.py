@@ -133,7 +133,9 @@ def main():
                        for k, v in row.items()} for row in csv.DictReader(f)]
         plot(points, pathlib.Path(args.out))
         return 0
-    methods = [("jacobi", [])]
+    # plain Jacobi explicitly: a tolerance alone selects over-relaxation
+    # (its automatic default, issue 28)
+    methods = [("jacobi", ["solver.over_relaxation=1"])]
     for m in args.method:
         name, _, sets = m.partition(":")
         methods.append((name, [s for s in sets.split(",") if s]))

@@ -6,7 +6,7 @@ script only draws it).
 usage: pbf_plot.py DATA.plot.json OUT.png [DATA.plot.json OUT.png ...]
 
 A data file is JSON: {"title", "columns", "panels": [{"title", "x_label",
-"y_label", "log_y", "series": [{"label", "x", "y", "style"}]}]} with style
+"y_label", "log_y", "log_x", "series": [{"label", "x", "y", "style"}]}]} with style
 "line", "dashed" or "points"; null values are gaps. Each PNG is written to a
 temporary file and renamed into place.
 
@@ -65,6 +65,8 @@ def draw(figure):
         ax.set_ylabel(panel["y_label"])
         if panel.get("log_y"):
             ax.set_yscale("log")
+        if panel.get("log_x"):
+            ax.set_xscale("log")
         ax.grid(True, alpha=0.3)
         if len(panel["series"]) > 1:
             ax.legend(fontsize=8)

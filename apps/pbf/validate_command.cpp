@@ -20,6 +20,7 @@ namespace {
 struct ValidateArguments {
     std::vector<std::string> cases;
     bool quick = false;
+    bool convergence = false;
     std::string out;
     int threads = 0;
     bool quiet = false;
@@ -63,14 +64,17 @@ int runValidate(const ValidateArguments& args) {
         }
         chosen.push_back(found);
     }
+    // --convergence without names: the cases with resolution studies.
     if (chosen.empty())
-        for (const validation::Case& c : all) chosen.push_back(&c);
+        for (const validation::Case& c : all)
+            if (!args.convergence || c.resolutionStudy) chosen.push_back(&c);
     if (args.threads > 0) setThreadCount(args.threads);
     const std::string out =
         !args.out.empty() ? args.out : (args.quick ? "out/validate_quick" : "out/validate");
 
     validation::Options options;
     options.quick = args.quick;
+    options.convergence = args.convergence;
     if (!args.quiet)
         options.progress = [](const std::string& message) {
             fmt::print(stderr, "pbf validate: {}\n", message);
@@ -87,6 +91,7 @@ int runValidate(const ValidateArguments& args) {
     const plot::Result plots = validation::writeReport(out, results, options);
     if (!plots.drawn) fmt::print(stderr, "pbf: warning: no plots: {}\n", plots.message);
     fmt::print("{}", validation::formatTable(results));
+    if (args.convergence) fmt::print("\n{}", validation::formatConvergenceTable(results));
     int failed = 0;
     for (const validation::CaseResult& r : results) failed += r.passed() ? 0 : 1;
     fmt::print("pbf validate: {} of {} cases passed{} -> {}/summary.md\n",
@@ -105,6 +110,9 @@ std::function<int()> addValidateCommand(CLI::App& app) {
     cmd->add_option("cases", args->cases, "Cases to run (default: all; --list shows them)");
     cmd->add_flag("--quick", args->quick,
                   "Reduced resolutions (a few minutes on two cores; what the test suite runs)");
+    cmd->add_flag("--convergence", args->convergence,
+                  "Run the cases with resolution studies (or the named ones) and print each "
+                  "study's errors, observed order and whether the error falls");
     cmd->add_option("-o,--out", args->out,
                     "Report directory (default: out/validate, or out/validate_quick with --quick)");
     cmd->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")

@@ -49,6 +49,7 @@ enum class Stage {
     UpdateVelocity,           // v = (x* - x) / dt
     ViscosityAndVorticity,    // XSPH; vorticity omega_i
     ExchangeVorticity,        // MPI: ghosts' omega
+    PhysicalViscosity,        // v += dt nu lap v (fluid.kinematic_viscosity)
     VorticityConfinement,     // v += dt f_vorticity
     SurfaceTension,           // v += dt a: cohesion of the surface layer, adhesion
     BoundaryResponse,         // restitution and friction; x = x*
@@ -86,6 +87,7 @@ inline const StageInfo& stageInfo(Stage stage) {
         {"update_velocity", &T::postProcess, nullptr},
         {"viscosity_and_vorticity", &T::postProcess, nullptr},
         {"exchange_vorticity", &T::postProcess, &T::exchange},
+        {"physical_viscosity", &T::postProcess, nullptr},
         {"vorticity_confinement", &T::postProcess, nullptr},
         {"surface_tension", &T::postProcess, nullptr},
         {"boundary_response", &T::postProcess, nullptr},

@@ -122,7 +122,15 @@ const ParamInfo kTable[] = {
     PBF_PARAM(FluidParams, restDensity, "fluid.rest_density", "rest_density", "kg/m³",
               openClosed(0.0, 1e5), kLive, "ρ0"),
     PBF_PARAM(FluidParams, viscosity, "fluid.viscosity", "viscosity", "1", closed(0.0, 1.0), kLive,
-              "XSPH viscosity c (Macklin & Müller eq. 17, Schechter & Bridson 2012)"),
+              "XSPH viscosity c (Macklin & Müller eq. 17, Schechter & Bridson 2012): a smoothing of "
+              "the velocities by a share c per substep, not a viscosity in m²/s (its effect depends "
+              "on dt and r; for one use `kinematic_viscosity`)"),
+    PBF_PARAM(FluidParams, kinematicViscosity, "fluid.kinematic_viscosity", "kinematic_viscosity",
+              "m²/s", closed(0.0, 1.0), kLive,
+              "kinematic viscosity ν: the SPH Laplacian of the velocity (Monaghan 2005), a "
+              "material viscosity whose Taylor–Green decay matches ν within 10 % "
+              "([validation](validation.md#taylor_green)); 0: none (water is 1e-6, below PBF's "
+              "own dissipation). Explicit: the adaptive substep keeps ν dt ≤ 0.05 (2 r)²"),
     PBF_PARAM(FluidParams, vorticity, "fluid.vorticity", "vorticity", "1", closed(0.0, 10.0), kLive,
               "vorticity confinement ε (eq. 16): acceleration ε h \\|ω\\| (N × ω)"),
     PBF_PARAM(FluidParams, surfaceTension, "fluid.surface_tension", "surface_tension", "N/m",
@@ -137,22 +145,27 @@ const ParamInfo kTable[] = {
               closed(0.0, 0.1), kLive,
               "iterate each substep until the average compression mean(max(ρ/ρ0 − 1, 0)) is at "
               "most this (e.g. 0.0002 = 0.02 %; SPlisHSPlasH's `maxError`); 0: fixed `iterations` "
-              "([accuracy per cost](performance.md#accuracy-per-cost-issue-19))"),
+              "([accuracy per cost](performance.md#accuracy-per-cost-issue-19)). With a tolerance "
+              "the over-relaxed iteration is the default (`over_relaxation` 1.2); set "
+              "`over_relaxation` 1 for plain Jacobi"),
     PBF_PARAM(SolverParams, minIterations, "solver.min_iterations", "min_iterations", "",
               (ParamRange{0, 0, false, false, "solver.max_iterations"}), kLive,
               "with `max_density_error`: corrections run at least", "[0, `max_iterations`]"),
     PBF_PARAM(SolverParams, maxIterations, "solver.max_iterations", "max_iterations", "",
               closed(1, 1000), kLive, "with `max_density_error`: corrections run at most"),
     PBF_PARAM(SolverParams, overRelaxation, "solver.over_relaxation", "over_relaxation", "1",
-              closed(0.5, 1.5), kLive,
+              (ParamRange{0.5, 1.5, false, false, {}, kAutomatic}), kLive,
               "ω of the Jacobi correction x* += ω Δp (Macklin et al. 2014, sec. 4.2); 1: the "
-              "paper's PBF"),
+              "paper's PBF. Automatic (-1, the default): 1.2 with `max_density_error` > 0, else 1",
+              "[0.5, 1.5] or -1", "automatic"),
     PBF_PARAM(SolverParams, warmStart, "solver.warm_start", "warm_start", "1", closed(0.0, 1.0),
               kLive,
               "start each substep's iterations from the prediction plus this fraction of the "
               "particle's last solve acceleration × dt², for particles that ended the last "
-              "substep compressed; 0: off. Recommended: 0.8 with `over_relaxation` 1.2 and at "
-              "least 4 iterations ([accuracy per cost](performance.md#accuracy-per-cost-issue-19))"),
+              "substep compressed; 0: off. 0.8 with `over_relaxation` 1.2 and at least 4 "
+              "iterations was the best on the dam break ([accuracy per "
+              "cost](performance.md#accuracy-per-cost-issue-19)), but it makes water at rest boil "
+              "(0.3 m/s in a resting tank): not for scenes that come to rest"),
     PBF_PARAM(SolverParams, relaxation, "solver.relaxation", "relaxation", "1",
               closed(1e-6, 10.0), kLive,
               "constraint-force-mixing ε of eq. 11, relative to the rest lattice's Σ\\|∇C\\|²"),
@@ -268,11 +281,14 @@ std::string ParamInfo::check(const SimulationParams& params) const {
             const double v = numeric(value);
             const double hi =
                 range.hiParam.empty() ? range.hi : numeric(findParam(range.hiParam)->get(params));
+            if (v == range.special) return {};
             const bool above = range.loOpen ? v > range.lo : v >= range.lo;
             const bool below = range.hiOpen ? v < hi : v <= hi;
             if (above && below) return {};  // NaN fails both
-            return field + ": must be in " + interval(range.lo, hi, range, type) + ", got " +
-                   number(v, type);
+            const std::string special =
+                std::isnan(range.special) ? "" : " or " + number(range.special, type);
+            return field + ": must be in " + interval(range.lo, hi, range, type) + special +
+                   ", got " + number(v, type);
         }
         case ParamType::Vec3: {
             const Vec3 v = std::get<Vec3>(value);

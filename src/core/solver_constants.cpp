@@ -146,7 +146,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     const float dq = s.artificialPressure.dq * c.h;
     c.scorrInverseWdq = 1.0f / c.poly6.value(dq * dq);
     c.scorrExponent = s.artificialPressure.n;
-    c.overRelaxation = s.overRelaxation;
+    c.overRelaxation = s.effectiveOverRelaxation();
 
     const float r = params.particleRadius;
     c.particleRadius = r;

@@ -6,8 +6,15 @@
 namespace pbf {
 namespace {
 
-// Quadrature points of the kernel's ball: a cubic grid of spacing h / 8
-// (about 2,100 points inside the ball), each with its poly6 weight.
+// Quadrature points of the kernel's ball: the centres of a cubic grid of
+// cells h / 8 wide (about 2,100 points inside the ball), each with its poly6
+// weight. Cell centres, not corners: the grid nodes sit a whole number of
+// particle radii from a face aligned with them (r = h / 4, two cells), and
+// corner points would then lie exactly on the face, where the body test
+// (signed distance < 0) and the half-space test (offset . n < -s) can round
+// differently: at r = 5 mm a whole layer of points counted for the plane
+// and not for the body gave a ratio of 0.57 instead of 1 at the centre of a
+// cube's face, for the particles resting there (issue 28).
 struct Quadrature {
     std::vector<Vec3> offsets;
     std::vector<float> weights;
@@ -17,10 +24,11 @@ Quadrature ballQuadrature(float h) {
     Quadrature q;
     constexpr int n = 8;
     const float step = h / float(n);
-    for (int i = -n; i <= n; ++i)
-        for (int j = -n; j <= n; ++j)
-            for (int k = -n; k <= n; ++k) {
-                const Vec3 o{float(i) * step, float(j) * step, float(k) * step};
+    const auto at = [&](int i) { return (float(i) + 0.5f) * step; };
+    for (int i = -n; i < n; ++i)
+        for (int j = -n; j < n; ++j)
+            for (int k = -n; k < n; ++k) {
+                const Vec3 o{at(i), at(j), at(k)};
                 const float r2 = lengthSquared(o);
                 if (r2 >= h * h) continue;
                 const float d = h * h - r2;

@@ -62,6 +62,7 @@ std::string toJson(const Figure& figure) {
                           {"x_label", panel.xLabel},
                           {"y_label", panel.yLabel},
                           {"log_y", panel.logY},
+                          {"log_x", panel.logX},
                           {"series", std::move(series)}});
     }
     const nlohmann::json j = {

@@ -92,8 +92,10 @@ CaseResult run(const Options& options) {
     CaseResult result;
     result.name = "archimedes";
     result.title = "Archimedes: cubes of 250, 500, 750 kg/m^3 floating in water";
+    // Radii a factor sqrt(2) apart: three resolutions for the convergence
+    // study at the cost of two halvings' finest run.
     const std::vector<float> radii =
-        options.quick ? std::vector<float>{0.01f} : std::vector<float>{0.01f, 0.005f};
+        options.quick ? std::vector<float>{0.01f} : std::vector<float>{0.01f, 0.00707f, 0.005f};
     std::vector<Settling> runs;
     for (float r : radii) runs.push_back(settle(r, options));
     const Settling& fine = runs.back();
@@ -138,20 +140,40 @@ CaseResult run(const Options& options) {
                                               plot::Style::Points));
     result.figure = {result.title, {fraction, depth, height, speed}, 2};
 
-    // The draft within one particle radius: a fraction r / L of the cube's edge.
-    const double tolerance = double(fine.radius) / double(kSide);
+    // 0.4 r of the edge: 0.02 (2 mm) at r = 5 mm, issue 28's target, met
+    // once the water level was read from whole columns (measure.cpp) and the
+    // density map's quadrature fixed (boundary_scale.cpp); what is left is
+    // the denser first layer of water against the body (a held, submerged
+    // cube feels 97 % of rho0 g V at 10 mm, 98 % at 5 mm: docs/validation.md),
+    // which shrinks with r (0.04 at the quick run's 10 mm).
+    const double tolerance = 0.4 * double(fine.radius) / double(kSide);
     for (std::size_t k = 0; k < kDensities.size(); ++k) {
         result.checks.push_back(
             {fmt::format("submerged fraction, {:.0f} kg/m^3 cube (r = {:g} mm)", kDensities[k],
                          1e3 * fine.radius),
              fine.finalFraction[k], kDensities[k] / kRho0, tolerance, "",
              "Archimedes: rho_b / rho0",
-             fmt::format("the draft within one particle radius ({:g} mm of the 10 cm edge): the "
-                         "free surface is resolved to about r (the level is the top particles' "
-                         "centres plus r) and so is the boundary that holds the water off the "
-                         "body (particles rest r from it; the density map corrects the kernel "
-                         "at its edges and corners only to about that)",
-                         1e3 * fine.radius)});
+             fmt::format("0.4 r ({:.1f} mm of the 10 cm edge): the level moves by about 2 mm "
+                         "from frame to frame (averaged over the last second), and the first "
+                         "layer of water against the body is denser than the bulk, which costs "
+                         "the body 2-3 % of its buoyancy at these resolutions, less at finer ones",
+                         0.4e3 * fine.radius)});
+        if (runs.size() >= 2) {
+            Convergence study{
+                fmt::format("|submerged fraction - rho_b / rho0|, {:.0f} kg/m^3", kDensities[k]),
+                "particle radius (mm)",
+                {},
+                {}};
+            for (const Settling& s : runs) {
+                study.h.push_back(1e3 * s.radius);
+                study.error.push_back(std::fabs(s.finalFraction[k] - kDensities[k] / kRho0));
+            }
+            result.checks.push_back(
+                convergenceCheck(study,
+                                 "the boundary's density and the first layer against the body are "
+                                 "resolved to a particle radius: finer particles, smaller error"));
+            result.convergence.push_back(std::move(study));
+        }
     }
     double lastSpeed = 0.0;
     for (double v : fine.lastSpeed) lastSpeed = std::max(lastSpeed, v);
@@ -191,7 +213,8 @@ CaseResult run(const Options& options) {
 
 Case archimedesCase() {
     return {"archimedes",
-            "cubes of 250/500/750 kg/m^3 float with 0.25/0.50/0.75 submerged (Archimedes)", run};
+            "cubes of 250/500/750 kg/m^3 float with 0.25/0.50/0.75 submerged (Archimedes)", run,
+            /*resolutionStudy=*/true};
 }
 
 }  // namespace pbf::validation

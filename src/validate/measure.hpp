@@ -47,9 +47,10 @@ double restingTimeStep(float radius);
 // body's volume below it.
 //
 // The water level: the mean over the 2r x 2r columns (r the particle
-// radius) farther than `clearance` (m, horizontally) from every body's
-// centre of the highest particle in each, plus r (the lattice's top layer
-// sits r below the surface). NaN if no column is clear of the bodies.
+// radius) whose centres are farther than `clearance` (m, horizontally) from
+// every body's centre of the highest particle in each, plus r (the
+// lattice's top layer sits r below the surface). NaN if no column is clear
+// of the bodies.
 double waterLevel(const World& world, double clearance);
 
 // The share of rigid body i's volume below the height `level` (m): the

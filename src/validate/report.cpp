@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "pbf/core/version.hpp"
@@ -52,6 +54,46 @@ void writeCaseCsv(const fs::path& file, const CaseResult& result) {
     writeFileAtomically(file, [&](std::ostream& o) { o << out.str(); });
 }
 
+// The errors of a study, coarse to fine: "0.032 (10), 0.016 (5)".
+std::string errorsText(const Convergence& c) {
+    std::string text;
+    for (std::size_t k = 0; k < c.error.size() && k < c.h.size(); ++k)
+        text += (k ? ", " : "") + fmt::format("{} ({:g})", number(c.error[k]), c.h[k]);
+    return text;
+}
+
+bool anyConvergence(const std::vector<CaseResult>& results) {
+    return std::any_of(results.begin(), results.end(),
+                       [](const CaseResult& r) { return !r.convergence.empty(); });
+}
+
+void writeConvergenceCsv(const fs::path& file, const std::vector<CaseResult>& results) {
+    std::ostringstream out;
+    out << "case,metric,resolution,h,error\n";
+    for (const CaseResult& r : results)
+        for (const Convergence& c : r.convergence)
+            for (std::size_t k = 0; k < c.h.size() && k < c.error.size(); ++k)
+                out << csvField(r.name) << ',' << csvField(c.metric) << ','
+                    << csvField(c.resolution) << ',' << fmt::format("{:.9g}", c.h[k]) << ','
+                    << fmt::format("{:.9g}", c.error[k]) << '\n';
+    writeFileAtomically(file, [&](std::ostream& o) { o << out.str(); });
+}
+
+// One log-log panel per case: every study's error against h.
+plot::Figure convergenceFigure(const std::vector<CaseResult>& results) {
+    plot::Figure figure{"Convergence: error against resolution (log-log)", {}, 2};
+    for (const CaseResult& r : results) {
+        if (r.convergence.empty()) continue;
+        plot::Panel panel{r.name, r.convergence.front().resolution, "error", {}};
+        panel.logX = panel.logY = true;
+        for (const Convergence& c : r.convergence)
+            panel.series.push_back({fmt::format("{} (order {:.2f})", c.metric, c.order()), c.h,
+                                    c.error, plot::Style::Line});
+        figure.panels.push_back(std::move(panel));
+    }
+    return figure;
+}
+
 std::string markdownSummary(const std::vector<CaseResult>& results, const Options& options,
                             const plot::Result& plots) {
     std::ostringstream md;
@@ -68,6 +110,19 @@ std::string markdownSummary(const std::vector<CaseResult>& results, const Option
             md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", r.name, cell(c.metric),
                               withUnit(c.value, c.unit), withUnit(c.reference, c.unit), c.limit(),
                               c.passed() ? "pass" : "**FAIL**");
+    if (anyConvergence(results)) {
+        md << "\n## Convergence\n\nEvery study's error at its resolutions, coarse to fine (the "
+              "resolution in brackets), the observed order (the slope of log error against log "
+              "h) and whether the error falls. Plot: [convergence.png](convergence.png), data: "
+              "[convergence.csv](convergence.csv).\n\n";
+        md << "| case | error | resolution | errors, coarse to fine | observed order | falls |\n";
+        md << "| --- | --- | --- | --- | --- | --- |\n";
+        for (const CaseResult& r : results)
+            for (const Convergence& c : r.convergence)
+                md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", r.name, cell(c.metric),
+                                  cell(c.resolution), errorsText(c), number(c.order()),
+                                  c.falls() ? "yes" : "**no**");
+    }
     for (const CaseResult& r : results) {
         md << "\n## " << r.name << ": " << r.title << "\n\n";
         md << fmt::format("{} ({:.1f} s). Plot: [{}.png]({}.png), data: [{}.csv]({}.csv).\n\n",
@@ -111,6 +166,68 @@ std::string Check::limit() const {
     return "± " + withUnit(tolerance, unit);
 }
 
+double Convergence::order() const {
+    std::vector<double> x, y;
+    for (std::size_t k = 0; k < h.size() && k < error.size(); ++k)
+        if (h[k] > 0.0 && error[k] > 0.0) {
+            x.push_back(std::log(h[k]));
+            y.push_back(std::log(error[k]));
+        }
+    if (x.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+    double mx = 0.0, my = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        mx += x[k] / double(x.size());
+        my += y[k] / double(x.size());
+    }
+    double sxy = 0.0, sxx = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+        sxy += (x[k] - mx) * (y[k] - my);
+        sxx += (x[k] - mx) * (x[k] - mx);
+    }
+    return sxx > 0.0 ? sxy / sxx : std::numeric_limits<double>::quiet_NaN();
+}
+
+bool Convergence::falls() const {
+    // NaN compares false: an error that could not be measured does not fall.
+    return error.size() >= 2 && error.back() < error.front();
+}
+
+Check convergenceCheck(const Convergence& study, const std::string& why) {
+    const double ratio = study.error.size() >= 2 && study.error.front() > 0.0
+                             ? study.error.back() / study.error.front()
+                             : std::numeric_limits<double>::quiet_NaN();
+    return {fmt::format("error falls: {}, finest / coarsest (order {:.2f})", study.metric,
+                        study.order()),
+            ratio,
+            0.0,
+            1.0,
+            "",
+            "convergence: the error must fall as the particles get smaller",
+            why,
+            Check::Bound::AtMost};
+}
+
+std::string formatConvergenceTable(const std::vector<CaseResult>& results) {
+    std::vector<std::array<std::string, 5>> rows{
+        {"case", "error", "errors, coarse to fine (resolution)", "order", "falls"}};
+    for (const CaseResult& r : results)
+        for (const Convergence& c : r.convergence)
+            rows.push_back(
+                {r.name, c.metric, errorsText(c), number(c.order()), c.falls() ? "yes" : "NO"});
+    std::size_t width[5] = {};
+    for (const auto& row : rows)
+        for (int k = 0; k < 5; ++k) width[k] = std::max(width[k], row[std::size_t(k)].size());
+    std::ostringstream out;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        for (int k = 0; k < 5; ++k)
+            out << fmt::format("{:<{}}", rows[i][std::size_t(k)], width[k])
+                << (k < 4 ? "  " : "\n");
+        if (i == 0)
+            for (int k = 0; k < 5; ++k) out << std::string(width[k], '-') << (k < 4 ? "  " : "\n");
+    }
+    return out.str();
+}
+
 bool CaseResult::passed() const {
     return !checks.empty() &&
            std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed(); });
@@ -151,6 +268,10 @@ plot::Result writeReport(const fs::path& directory, const std::vector<CaseResult
     for (const CaseResult& r : results) {
         writeCaseCsv(directory / (r.name + ".csv"), r);
         jobs.push_back({r.figure, directory / (r.name + ".png")});
+    }
+    if (anyConvergence(results)) {
+        writeConvergenceCsv(directory / "convergence.csv", results);
+        jobs.push_back({convergenceFigure(results), directory / "convergence.png"});
     }
     const plot::Result plots = plot::drawFigures(jobs);
     writeFileAtomically(directory / "summary.md", [&](std::ostream& out) {

@@ -66,9 +66,9 @@ constexpr int kFrames = 24;  // 0.8 s: the surge hits the far wall at ~0.5 s
 TEST(IterationControl, ToleranceIsMetEveryFrameAndIterationsFollowTheFlow) {
     const double tolerance = 0.0005;
     const Solve fixed = solve({"solver.iterations=4"}, kFrames);
-    const Solve controlled = solve(
-        {"solver.max_density_error=0.0005", "solver.min_iterations=1", "solver.max_iterations=200"},
-        kFrames);
+    const Solve controlled = solve({"solver.max_density_error=0.0005", "solver.min_iterations=1",
+                                    "solver.max_iterations=200", "solver.over_relaxation=1"},
+                                   kFrames);
     print("4 iterations", fixed);
     print("tolerance 0.05 %", controlled);
     double fewest = 1e9, most = 0.0;
@@ -91,9 +91,10 @@ TEST(IterationControl, ToleranceIsMetEveryFrameAndIterationsFollowTheFlow) {
 // control is monotone, so a user can trade one for the other.
 TEST(IterationControl, TighterToleranceGivesSmallerErrorForMoreIterations) {
     const auto withTolerance = [](const char* tolerance) {
-        return solve({std::string("solver.max_density_error=") + tolerance,
-                      "solver.min_iterations=1", "solver.max_iterations=200"},
-                     kFrames);
+        return solve(
+            {std::string("solver.max_density_error=") + tolerance, "solver.min_iterations=1",
+             "solver.max_iterations=200", "solver.over_relaxation=1"},
+            kFrames);
     };
     const Solve loose = withTolerance("0.001");
     const Solve tight = withTolerance("0.0002");
@@ -132,6 +133,30 @@ TEST(IterationControl, OverRelaxationAndWarmStartConvergeFaster) {
     EXPECT_LE(both.meanMaxError, plain.meanMaxError);
     for (const Solve* r : {&omega, &warm, &both})
         EXPECT_LT(r->peakSpeed, 1.3 * std::max(plain.peakSpeed, twice.peakSpeed));
+}
+
+// A tolerance alone selects the over-relaxed iteration (omega 1.2, the
+// automatic default of include/pbf/core/params.hpp), bit for bit the setting
+// spelled out; plain Jacobi stays selectable; and without a tolerance the
+// automatic omega is the paper's 1, bit for bit. Fails if the automatic
+// value is not resolved (a tolerance run equal to the plain one) or
+// resolved differently.
+TEST(IterationControl, ToleranceAloneSelectsOverRelaxation) {
+    const auto positions = [](const std::vector<std::string>& settings) {
+        World world(damBreak(settings));
+        for (int k = 0; k < 6; ++k) stepFrame(world);
+        return world.particles().position.y;
+    };
+    const std::string tolerance = "solver.max_density_error=0.0005";
+    const auto automatic = positions({tolerance});
+    EXPECT_EQ(automatic, positions({tolerance, "solver.over_relaxation=1.2"}));
+    EXPECT_NE(automatic, positions({tolerance, "solver.over_relaxation=1"}));
+    EXPECT_EQ(positions({}), positions({"solver.over_relaxation=1"}));
+    // -1 is "automatic", any other value outside the range is refused.
+    SimulationParams p;
+    EXPECT_EQ(validate(p), "");
+    p.solver.overRelaxation = -0.5f;
+    EXPECT_NE(validate(p).find("solver.over_relaxation: must be in [0.5, 1.5]"), std::string::npos);
 }
 
 }  // namespace

@@ -93,6 +93,9 @@ def write_figure(path):
              "series": [{"label": "data", "x": [0.5, 1.5], "y": [1.1, 2.2], "style": "points"}]},
             {"title": "c", "x_label": "x", "y_label": "y", "log_y": False,
              "series": [{"label": "only", "x": [1], "y": [1], "style": "line"}]},
+            {"title": "d", "x_label": "h", "y_label": "error", "log_y": True, "log_x": True,
+             "series": [{"label": "order", "x": [1, 2, 4], "y": [0.1, 0.2, 0.4],
+                         "style": "points"}]},
         ],
     }
     path.write_text(json.dumps(figure))
@@ -112,6 +115,7 @@ def test_the_script_draws_exactly_the_data_it_is_given(tmp_path):
         assert ax.get_xlabel() == panel["x_label"]
         assert ax.get_ylabel() == panel["y_label"]
         assert ax.get_yscale() == ("log" if panel["log_y"] else "linear")
+        assert ax.get_xscale() == ("log" if panel.get("log_x") else "linear")
         lines = ax.get_lines()
         assert [line.get_label() for line in lines] == [s["label"] for s in panel["series"]]
         for line, series in zip(lines, panel["series"]):

@@ -102,9 +102,53 @@ TEST(ValidationCases, AllRegisteredWithUniqueNames) {
         EXPECT_EQ(std::count(names.begin(), names.end(), c.name), 0) << c.name;
         names.push_back(c.name);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{
-                         "martin_moyce", "hydrostatic", "free_fall", "momentum", "taylor_green",
-                         "archimedes", "rayleigh_drop", "cube_to_sphere", "laplace", "wetting"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"martin_moyce", "hydrostatic", "free_fall",
+                                               "momentum", "taylor_green", "archimedes", "heave",
+                                               "rayleigh_drop", "cube_to_sphere", "laplace",
+                                               "wetting"}));
+}
+
+// The observed order is the slope of log error against log h; the study
+// passes when the finest error is below the coarsest; the report holds the
+// table and the CSV. Catches a slope of the wrong sign or base, a "falls"
+// that compares the wrong ends, and a study missing from the report.
+TEST(ValidationConvergence, OrderFallsAndReport) {
+    Convergence second{"e", "h (mm)", {4.0, 2.0, 1.0}, {0.16, 0.04, 0.01}};
+    EXPECT_NEAR(second.order(), 2.0, 1e-12);
+    EXPECT_TRUE(second.falls());
+    const Check ok = convergenceCheck(second, "why");
+    EXPECT_TRUE(ok.passed());
+    EXPECT_NEAR(ok.value, 0.0625, 1e-12);
+    Convergence rising{"r", "h (mm)", {4.0, 2.0, 1.0}, {0.01, 0.02, 0.04}};
+    EXPECT_NEAR(rising.order(), -1.0, 1e-12);
+    EXPECT_FALSE(rising.falls());
+    EXPECT_FALSE(convergenceCheck(rising, "why").passed());
+    Convergence one{"o", "h", {1.0}, {0.5}};
+    EXPECT_TRUE(std::isnan(one.order()));
+    EXPECT_FALSE(one.falls());
+    EXPECT_FALSE(convergenceCheck(one, "why").passed()) << "one resolution shows no convergence";
+
+    CaseResult r;
+    r.name = "study";
+    r.checks = {ok};
+    r.convergence = {second, rising};
+    const std::string table = formatConvergenceTable({r});
+    EXPECT_NE(table.find("0.16 (4), 0.04 (2), 0.01 (1)"), std::string::npos) << table;
+    EXPECT_NE(table.find("NO"), std::string::npos) << table;
+    const auto dir = std::filesystem::temp_directory_path() / "pbf_validation_convergence_test";
+    std::filesystem::remove_all(dir);
+    ::setenv("PBF_PYTHON", PBF_TESTS_DATA_DIR "/python3_without_site_packages.sh", 1);
+    writeReport(dir, {r}, Options{});
+    ::unsetenv("PBF_PYTHON");
+    std::ifstream csv(dir / "convergence.csv");
+    std::stringstream text;
+    text << csv.rdbuf();
+    EXPECT_NE(text.str().find("study,e,h (mm),1,0.01"), std::string::npos) << text.str();
+    std::ifstream summary(dir / "summary.md");
+    std::stringstream md;
+    md << summary.rdbuf();
+    EXPECT_NE(md.str().find("## Convergence"), std::string::npos);
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 // src/core/param_table.cpp (docs/architecture.md, "How to add ...").
 #pragma once
 
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -42,6 +43,9 @@ struct ParamRange {
     // The upper bound is another parameter's value (its path), e.g.
     // solver.min_iterations <= solver.max_iterations.
     std::string_view hiParam = {};
+    // One value outside [lo, hi] that is also accepted, with its own
+    // meaning (kAutomatic for solver.over_relaxation); NaN: none.
+    double special = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ParamInfo {

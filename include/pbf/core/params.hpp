@@ -17,8 +17,18 @@ namespace pbf {
 struct FluidParams {
     float restDensity = 1000.0f;  // rho0, kg/m^3, (0, 1e5]
     // XSPH viscosity c (Schechter & Bridson 2012, paper eq. 17), dimensionless
-    // because the sum is weighted by particle volume: [0, 1].
+    // because the sum is weighted by particle volume: [0, 1]. A smoothing of
+    // the velocities by a share c per substep, not a material viscosity: its
+    // effect depends on the time step and the resolution (docs/validation.md,
+    // "Viscosity"). For a viscosity in m^2/s use kinematicViscosity.
     float viscosity = 0.01f;
+    // Kinematic viscosity nu, m^2/s, [0, 1]: the SPH Laplacian of the
+    // velocity (reference::viscosityTerm), checked against the Taylor-Green
+    // vortex's decay exp(-2 nu k^2 t). 0 (the default): none; water is
+    // 1.0e-6, far below PBF's own numerical dissipation at usual
+    // resolutions. Explicit: the adaptive substep keeps dt <= 0.05
+    // (2 r)^2 / nu.
+    float kinematicViscosity = 0.0f;
     // Vorticity confinement epsilon (paper eq. 16, Fedkiw et al. 2001),
     // dimensionless: acceleration = epsilon * h * |omega| * (N x omega). [0, 10].
     float vorticity = 0.0f;
@@ -46,6 +56,15 @@ struct ArtificialPressureParams {
 
 enum class TimeStepMode { Adaptive, Fixed };
 
+// The default of solver.over_relaxation: chosen from the mode
+// (SolverParams::effectiveOverRelaxation). With a tolerance
+// (maxDensityError > 0) omega = 1.2, which reaches the tolerance in fewer
+// iterations (docs/performance.md, "Accuracy per cost"): a user who asks for
+// an accuracy gets the faster iteration without knowing the setting. With
+// fixed iterations the paper's plain Jacobi (1): the default run is
+// unchanged. A value set (1 for plain Jacobi) is used as it is.
+inline constexpr float kAutomatic = -1.0f;
+
 struct SolverParams {
     int iterations = 4;  // Jacobi density iterations per substep, [1, 100]
     // Error-controlled iterations (SPlisHSPlasH's maxError): when > 0, each
@@ -61,14 +80,17 @@ struct SolverParams {
     // al. 2014, "Unified particle physics for real-time applications", sec.
     // 4.2: Jacobi with omega > 1 converges faster while it stays stable).
     // Jacobi with omega beyond ~1.5 blew the dam break up (measured: 1.6).
-    float overRelaxation = 1.0f;  // [0.5, 1.5]
+    float overRelaxation = kAutomatic;  // [0.5, 1.5] or kAutomatic (1.2 / 1)
     // Warm start: each substep's iterations start from the prediction plus
     // this fraction of the particle's last pressure acceleration times dt^2,
     // for particles that ended the last substep compressed
     // (reference::warmStart; DFSPH warm-starts its solvers the same way).
-    // 0: off (the paper's PBF). 0.8 with over_relaxation 1.2 is the measured
-    // best (docs/performance.md, "Accuracy per cost"); 1 feeds energy into
-    // violent flows, and so do fewer than ~4 iterations.
+    // 0: off (the paper's PBF). 0.8 with over_relaxation 1.2 was the best
+    // on the dam break (docs/performance.md, "Accuracy per cost"); 1 feeds
+    // energy into violent flows, and so do fewer than ~4 iterations. Not
+    // chosen automatically with a tolerance: it makes water at rest boil
+    // (issue 28: a resting tank reaches 0.3 m/s median speed with 0.8 and
+    // 4 to 30 iterations, at r = 10, 5 and 2.5 mm; docs/performance.md).
     float warmStart = 0.0f;  // [0, 1]
     // Constraint-force-mixing epsilon of paper eq. 11, relative to the rest
     // lattice's sum |grad C|^2 (so the value means the same at any resolution).
@@ -98,6 +120,12 @@ struct SolverParams {
     // contact angle is acos(2 a - 1): 0 water beads (180 deg), 0.5 neutral
     // (90 deg), 1 wets completely. Solids and bodies have their own.
     float wallAdhesion = 0.0f;
+
+    // The omega the solver runs with: kAutomatic resolved (see there).
+    float effectiveOverRelaxation() const {
+        return overRelaxation != kAutomatic ? overRelaxation
+                                            : (maxDensityError > 0.0f ? 1.2f : 1.0f);
+    }
 };
 
 struct SimulationParams {

@@ -44,6 +44,7 @@ struct Panel {
     std::string yLabel;
     std::vector<Series> series;
     bool logY = false;
+    bool logX = false;  // with logY: a log-log plot (convergence studies)
 };
 
 struct Figure {

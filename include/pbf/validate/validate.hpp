@@ -35,6 +35,24 @@ struct Check {
     std::string limit() const;  // "± 0.1 m", ">= 0.5", "<= 0.02 m/s" for tables
 };
 
+// A convergence study: one error measured at several resolutions, coarse
+// to fine. The observed order is the least-squares slope of log(error)
+// against log(h); the study passes when the error falls: the finest
+// resolution's error is below the coarsest's (its check in the case, made
+// by convergenceCheck()). `pbf validate --convergence` prints them.
+struct Convergence {
+    std::string metric;      // the error, e.g. "|submerged fraction - rho_b / rho0|, 250 kg/m^3"
+    std::string resolution;  // what h is, with its unit: "particle radius (mm)"
+    std::vector<double> h;   // coarse to fine (decreasing)
+    std::vector<double> error;
+    double order() const;  // NaN with fewer than two positive errors
+    bool falls() const;    // error.back() < error.front()
+};
+
+// The check that a study's error falls (value: finest / coarsest error, at
+// most 1), with its reason.
+Check convergenceCheck(const Convergence& study, const std::string& why);
+
 struct CaseResult {
     std::string name;
     std::string title;
@@ -49,13 +67,15 @@ struct CaseResult {
         std::vector<double> y;
     };
     std::vector<Column> data;
-    std::string notes;  // Markdown: setup and what to read from the plot
+    std::string notes;                     // Markdown: setup and what to read from the plot
+    std::vector<Convergence> convergence;  // drawn into convergence.png with the other cases'
     double wallSeconds = 0.0;
     bool passed() const;
 };
 
 struct Options {
-    bool quick = false;  // reduced resolutions: a few minutes on two cores
+    bool quick = false;        // reduced resolutions: a few minutes on two cores
+    bool convergence = false;  // --convergence: print the convergence studies' table
     // Progress messages ("martin_moyce: 40 particles across, T = 2.1"); may be empty.
     std::function<void(const std::string&)> progress;
 };
@@ -64,6 +84,7 @@ struct Case {
     std::string name;         // on the command line, e.g. "martin_moyce"
     std::string description;  // one line
     std::function<CaseResult(const Options&)> run;
+    bool resolutionStudy = false;  // runs at several resolutions: has convergence studies
 };
 
 // Every case, in the order they run.
@@ -72,9 +93,13 @@ const std::vector<Case>& cases();
 // The table printed by `pbf validate`: case, metric, value, reference,
 // tolerance, pass/fail.
 std::string formatTable(const std::vector<CaseResult>& results);
+// The convergence studies: case, metric, errors coarse to fine, order, falls.
+std::string formatConvergenceTable(const std::vector<CaseResult>& results);
 
 // Writes DIR/<case>.csv, DIR/summary.md and (through plot::drawFigures)
-// DIR/<case>.png for every result; IoError naming the file when a write
+// DIR/<case>.png for every result, and DIR/convergence.png (log-log, one
+// panel per case with studies) and DIR/convergence.csv when any case has
+// convergence studies; IoError naming the file when a write
 // fails. Returns the plotting result (a missing matplotlib is reported, not
 // thrown).
 plot::Result writeReport(const std::filesystem::path& directory,

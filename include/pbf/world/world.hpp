@@ -169,7 +169,8 @@ class World {
     // The substep the adaptive mode takes now, given `remaining` seconds of
     // the frame: min(max_time_step, cfl * spacing / speed), where speed is the
     // largest particle or body-surface speed plus what gravity adds in one
-    // step, then evened out so that the frame ends on a whole number of
+    // step (and, with fluid.kinematic_viscosity nu, at most 0.05 spacing^2 /
+    // nu), then evened out so that the frame ends on a whole number of
     // equal substeps.
     double adaptiveSubstep(double remaining) const;
 

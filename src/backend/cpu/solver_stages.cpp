@@ -100,6 +100,52 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
     }
 }
 
+void applyPhysicalViscosity(const SolverConstants& c, float nu, float dt,
+                            const NeighborSearch& search, const PackedPoint* predicted,
+                            const PackedPoint* velocityDensity, Float3Array& velocity,
+                            std::size_t begin, std::size_t end) {
+    const auto position = [&](std::uint32_t j) {
+        return Vec3{predicted[j].x, predicted[j].y, predicted[j].z};
+    };
+    const auto speed = [&](std::uint32_t j) {
+        return Vec3{velocityDensity[j].x, velocityDensity[j].y, velocityDensity[j].z};
+    };
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t self = std::uint32_t(i);
+        const Vec3 xi = position(self), vi = speed(self);
+        const float rhoI = velocityDensity[i].w;
+        const NeighborList nbrs = search.neighbors(i);
+        Vec3 a{};
+        float moment = 0.0f;
+        for (std::size_t k = 0; k < nbrs.size(); ++k) {
+            const std::uint32_t j = nbrs[k];
+            const Vec3 rij = xi - position(j);
+            const float rhoJ = velocityDensity[j].w;
+            a += reference::viscosityTerm(c, nu, rij, vi, speed(j), rhoI, rhoJ);
+            moment += reference::viscosityMomentTerm(c, rij, rhoI, rhoJ);
+        }
+        for (int axis = 0; axis < 3; ++axis)
+            for (const int side : {-1, 1}) {
+                if (!reference::wallInReach(c, xi, axis, side)) continue;
+                const float plane = reference::wallPlane(c, axis, side);
+                const Vec3 image = xi - reference::mirrored(xi, axis, plane);
+                a += reference::viscosityTerm(c, nu, image, vi,
+                                              reference::mirroredVelocity(vi, axis), rhoI, rhoI);
+                moment += reference::viscosityMomentTerm(c, image, rhoI, rhoI);
+                for (std::size_t k = 0; k < nbrs.size(); ++k) {
+                    const std::uint32_t j = nbrs[k];
+                    const Vec3 rij = xi - reference::mirrored(position(j), axis, plane);
+                    const float rhoJ = velocityDensity[j].w;
+                    a += reference::viscosityTerm(
+                        c, nu, rij, vi, reference::mirroredVelocity(speed(j), axis), rhoI, rhoJ);
+                    moment += reference::viscosityMomentTerm(c, rij, rhoI, rhoJ);
+                }
+            }
+        a = reference::normalisedViscosity(a, moment);
+        velocity.set(i, velocity.get(i) + a * dt);
+    }
+}
+
 void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
                             ReactionAccumulator* reactions, const Float3Array& position,
                             Float3Array& predicted, std::size_t begin, std::size_t end) {

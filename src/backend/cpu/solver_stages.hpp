@@ -85,6 +85,15 @@ void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity
                                        const PackedPoint* velocityDensity, Float3Array* vorticity,
                                        Float3Array& velocity, std::size_t begin, std::size_t end);
 
+// Physical viscosity: v_i += dt nu lap v_i (reference::viscosityTerm, the
+// SPH Laplacian with the domain walls as free-slip mirrors), reading x_j
+// from `predicted` and (v_j, rho_j) from `velocityDensity` (Jacobi: the
+// velocities before XSPH, as XSPH reads them).
+void applyPhysicalViscosity(const SolverConstants& c, float nu, float dt,
+                            const NeighborSearch& search, const PackedPoint* predicted,
+                            const PackedPoint* velocityDensity, Float3Array& velocity,
+                            std::size_t begin, std::size_t end);
+
 // Vorticity confinement (eq. 16): N = eta/|eta|, eta = grad |omega|, and
 // a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i to v_i.
 void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon, float dt,

@@ -49,6 +49,14 @@ Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec
                   std::span<const Vec3> v, std::span<const float> rho, NeighborIndices neighbors,
                   std::size_t i);
 
+// The physical viscosity's acceleration a_i = nu lap v_i
+// (equations.hpp, viscosityTerm, normalised by viscosityMomentTerm): the
+// neighbours, then for each domain wall in reach the mirror images of i and
+// of its neighbours.
+Vec3 viscosityAcceleration(const SolverConstants& c, float nu, std::span<const Vec3> x,
+                           std::span<const Vec3> v, std::span<const float> rho,
+                           NeighborIndices neighbors, std::size_t i);
+
 // Eq. 15: the vorticity omega_i, from the same state as xsphVelocity.
 Vec3 vorticity(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> v,
                std::span<const float> rho, NeighborIndices neighbors, std::size_t i);

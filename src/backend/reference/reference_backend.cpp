@@ -165,6 +165,15 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     // the last iteration's densities (Jacobi); confinement adds to XSPH's result.
     const FluidParams& fluid = params.fluid;
     const bool withVorticity = fluid.vorticity > 0.0f;
+    // The physical viscosity reads the same velocities as XSPH (Jacobi).
+    const bool withViscosity = fluid.kinematicViscosity > 0.0f;
+    if (withViscosity) {
+        viscosityAcceleration_.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            viscosityAcceleration_[i] =
+                reference::viscosityAcceleration(c, fluid.kinematicViscosity, predicted_, velocity_,
+                                                 density_, grid_.neighbors(i), i);
+    }
     if (fluid.viscosity > 0.0f || withVorticity) {
         if (withVorticity) vorticity_.resize(n);
         for (std::size_t i = 0; i < n; ++i) {
@@ -184,6 +193,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         }
         velocity_.swap(postVelocity_);
     }
+    if (withViscosity)
+        for (std::size_t i = 0; i < n; ++i) velocity_[i] += dt * viscosityAcceleration_[i];
     const SolverParams& s = params.solver;
     // Surface tension's cohesion and adhesion at x*, added to the
     // velocity like confinement: the force at the new positions drives the
@@ -220,7 +231,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
 std::size_t ReferenceBackend::bufferBytes() const {
     std::size_t vectors = position_.capacity() + predicted_.capacity() + corrected_.capacity() +
                           velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity() +
-                          predictedVelocity_.capacity() + solveAcceleration_.capacity();
+                          predictedVelocity_.capacity() + solveAcceleration_.capacity() +
+                          viscosityAcceleration_.capacity();
     return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity());
 }
 

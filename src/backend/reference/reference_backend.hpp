@@ -36,10 +36,11 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> predicted_;  // x*
     std::vector<Vec3> corrected_;  // x* + dp of the current iteration (Jacobi)
     std::vector<Vec3> velocity_;
-    std::vector<Vec3> postVelocity_;       // v after XSPH and confinement (Jacobi)
-    std::vector<Vec3> vorticity_;          // omega, eq. 15
-    std::vector<Vec3> predictedVelocity_;  // v + dt g, before the iterations
-    std::vector<Vec3> solveAcceleration_;  // warm start: the last substep's, then this one's
+    std::vector<Vec3> postVelocity_;           // v after XSPH and confinement (Jacobi)
+    std::vector<Vec3> vorticity_;              // omega, eq. 15
+    std::vector<Vec3> predictedVelocity_;      // v + dt g, before the iterations
+    std::vector<Vec3> solveAcceleration_;      // warm start: the last substep's, then this one's
+    std::vector<Vec3> viscosityAcceleration_;  // physical viscosity: nu lap v of this substep
     std::vector<float> density_;
     std::vector<float> lambda_;
 };
