@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "pbf/distributed.hpp"
 #include "pbf/scene.hpp"
 #include "pbf/threading.hpp"
@@ -84,7 +85,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     scene.rigidBodies = benchBodies(args.bodies);
 
     WorldOptions options;
-    options.backend = parseBackendKind(args.device);
+    options.backend = selectDevice(args.device);
     if (distributed::size() > 1) {
         if (options.backend != BackendKind::Cpu)
             throw SceneError("--device " + args.device +
@@ -198,9 +199,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    bench->add_option("--device", args->device, "Backend: cpu (SIMD) or reference (scalar)")
-        ->check(CLI::IsMember({"cpu", "reference"}))
-        ->capture_default_str();
+    addDeviceOption(bench, args->device);
     bench
         ->add_option("--bodies", args->bodies,
                      "Rigid bodies (5 cm boxes, densities 500 and 1500) in the water column: "

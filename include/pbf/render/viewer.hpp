@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "pbf/render/camera.hpp"
+#include "pbf/backend.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/scene.hpp"
 
@@ -23,6 +24,7 @@ struct ViewerOptions {
     // window (panel included) to `screenshot` as PNG and close.
     std::filesystem::path screenshot;
     int frames = 0;
+    BackendKind device = BackendKind::Cpu;  // the simulation's solver (--device)
 };
 
 struct ViewerSummary {

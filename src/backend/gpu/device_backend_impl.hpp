@@ -1,0 +1,687 @@
+// The GPU backend's implementation (private header, included once by each
+// build: build_on_gpu.cu with nvcc, build_on_cpu.cpp with Thrust's OpenMP
+// device system; PBF_DEVICE_NAMESPACE names the build). Only Thrust
+// algorithms the CUDA toolkit's CCCL and Debian's Thrust 1.17 share:
+// device_vector, for_each_n, stable_sort_by_key, gather, lower_bound,
+// transform_reduce, copy, fill.
+//
+// One step (Macklin & Mueller 2013, Algorithm 1) in the CPU backend's stage
+// order, each stage a for_each over the particles with a kernel of
+// device_kernels.hpp:
+//   predict       v += dt g, x* = x + dt v, warm start, swept collision   l. 1-4
+//   grid          cell keys of x*, stable sort by cell, cell ranges        l. 5-7
+//   reorder       every particle field permuted by cell (forEachField)
+//   iterations    rho and lambda; [tolerance test]; corrected x* (Jacobi)  l. 8-19
+//   post-process  v = (x* - x) / dt, XSPH + vorticity, confinement,       l. 21-23
+//                 wall and solid response, x = x*
+// Reductions (largest speed, first bad particle, statistics, the coupled
+// solids' reactions, the tolerance's compression) are integer, max/min or
+// per-block sums added in block order: deterministic on a GPU and under any
+// OpenMP thread count, and the same blocks as the host's loops.
+#pragma once
+
+#include <thrust/binary_search.h>
+#include <thrust/copy.h>
+#include <thrust/device_vector.h>
+#include <thrust/execution_policy.h>
+#include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/functional.h>
+#include <thrust/gather.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/sort.h>
+#include <thrust/transform_reduce.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "backend/gpu/device_backend.hpp"
+#include "backend/gpu/device_kernels.hpp"
+#include "backend/gpu/device_solids.hpp"
+#include "core/reactions.hpp"
+#include "pbf/particles.hpp"
+#include "pbf/threading.hpp"
+#include "world/boundary_scale.hpp"
+
+#if !defined(PBF_DEVICE_NAMESPACE)
+#error "define PBF_DEVICE_NAMESPACE (on_gpu or on_cpu) before including this header"
+#endif
+
+namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
+
+template <class T>
+using DeviceArray = thrust::device_vector<T>;
+
+template <class T>
+T* raw(DeviceArray<T>& a) {
+    return thrust::raw_pointer_cast(a.data());
+}
+template <class T>
+const T* raw(const DeviceArray<T>& a) {
+    return thrust::raw_pointer_cast(a.data());
+}
+
+inline thrust::counting_iterator<std::uint32_t> indices(std::uint32_t first = 0) {
+    return thrust::counting_iterator<std::uint32_t>(first);
+}
+
+// Runs kernel(i) for i in [0, n).
+template <class Kernel>
+void forEachIndex(std::size_t n, const Kernel& kernel) {
+    if (n > 0) thrust::for_each_n(thrust::device, indices(), n, kernel);
+}
+
+template <class T>
+std::size_t bytesOf(const DeviceArray<T>& a) {
+    return a.capacity() * sizeof(T);
+}
+
+struct DeviceFloat3 {
+    DeviceArray<float> x, y, z;
+    std::size_t size() const { return x.size(); }
+    void resize(std::size_t n) {
+        x.resize(n);
+        y.resize(n);
+        z.resize(n);
+    }
+    void clear() { resize(0); }
+    Float3View view() { return {raw(x), raw(y), raw(z)}; }
+    std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
+};
+
+// The particle state in device memory: the persistent fields of ParticleStore.
+struct DeviceParticles {
+    DeviceFloat3 position;           // x
+    DeviceFloat3 predicted;          // x*
+    DeviceFloat3 velocity;           // v
+    DeviceFloat3 solveAcceleration;  // the warm start's; empty while it is off
+    DeviceArray<float> density;
+    DeviceArray<std::uint32_t> id;
+    std::uint32_t nextId = 0;
+    std::size_t size() const { return id.size(); }
+};
+
+// The one list of the particle fields: calls fn(deviceArray, field, optional)
+// for every array, where field(store) is the matching ParticleStore vector
+// and an optional field may be empty (off) while the others hold one entry
+// per particle. Upload, download, append and the reorder by cell go through it.
+template <class Particles, class Fn>
+void forEachField(Particles& d, Fn&& fn) {
+    fn(d.position.x, [](auto& s) -> auto& { return s.position.x; }, false);
+    fn(d.position.y, [](auto& s) -> auto& { return s.position.y; }, false);
+    fn(d.position.z, [](auto& s) -> auto& { return s.position.z; }, false);
+    fn(d.predicted.x, [](auto& s) -> auto& { return s.predicted.x; }, false);
+    fn(d.predicted.y, [](auto& s) -> auto& { return s.predicted.y; }, false);
+    fn(d.predicted.z, [](auto& s) -> auto& { return s.predicted.z; }, false);
+    fn(d.velocity.x, [](auto& s) -> auto& { return s.velocity.x; }, false);
+    fn(d.velocity.y, [](auto& s) -> auto& { return s.velocity.y; }, false);
+    fn(d.velocity.z, [](auto& s) -> auto& { return s.velocity.z; }, false);
+    fn(d.solveAcceleration.x, [](auto& s) -> auto& { return s.solveAcceleration.x; }, true);
+    fn(d.solveAcceleration.y, [](auto& s) -> auto& { return s.solveAcceleration.y; }, true);
+    fn(d.solveAcceleration.z, [](auto& s) -> auto& { return s.solveAcceleration.z; }, true);
+    fn(d.density, [](auto& s) -> auto& { return s.density; }, false);
+    fn(d.id, [](auto& s) -> auto& { return s.id; }, false);
+}
+
+// The solids in device memory (device_solids.hpp): the shapes (uploaded when
+// the set's shapes change) and, before every step, their poses, velocities,
+// bounds and couplings; the bodies' boundary-scale grids.
+class DeviceSolidStore {
+  public:
+    // The device view of `solids` (null or empty: none). Shapes without
+    // parameters are sampled `spacing` apart with `margin` around them.
+    SolidsArgument update(const SolidSet* solids, float spacing, float margin) {
+        SolidsArgument argument;
+        if (!solids || solids->empty()) return argument;
+        const std::size_t count = solids->size();
+        uploadShapes(*solids, spacing, margin);
+        uploadScales(*solids);
+        std::vector<SolidMotion> motions(count);
+        std::vector<std::uint8_t> identity(count), coupled(count);
+        std::vector<Aabb> bounds(count);
+        std::vector<Vec3> origins(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            motions[k] = solids->motion(k);
+            identity[k] = solids->identityPose(k) ? 1 : 0;
+            coupled[k] = solids->coupled(k) ? 1 : 0;
+            bounds[k] = solids->bounds(k);
+            origins[k] = motions[k].pose.position;
+        }
+        motions_ = motions;
+        identity_ = identity;
+        coupled_ = coupled;
+        bounds_ = bounds;
+        origins_ = origins;
+        DeviceSolids& v = argument.solids;
+        v.count = static_cast<std::uint32_t>(count);
+        v.shapes = raw(shapes_);
+        v.motions = raw(motions_);
+        v.identity = raw(identity_);
+        v.bounds = raw(bounds_);
+        v.coupled = raw(coupled_);
+        v.scales = raw(scales_);
+        v.moving = solids->anyMoving();
+        argument.present = true;
+        return argument;
+    }
+    const std::uint8_t* coupled() const { return raw(coupled_); }
+    const Vec3* origins() const { return raw(origins_); }
+    std::size_t bytes() const {
+        return bytesOf(shapes_) + bytesOf(samples_) + bytesOf(motions_) + bytesOf(identity_) +
+               bytesOf(coupled_) + bytesOf(bounds_) + bytesOf(origins_) + bytesOf(scales_) +
+               bytesOf(scaleValues_);
+    }
+
+  private:
+    void uploadShapes(const SolidSet& solids, float spacing, float margin) {
+        std::vector<const Solid*> keys(solids.size());
+        for (std::size_t k = 0; k < solids.size(); ++k) keys[k] = &solids.shape(k);
+        if (keys == shapeKeys_) return;
+        std::vector<DeviceShape> shapes(keys.size());
+        std::vector<std::size_t> offsets(keys.size(), 0);
+        std::vector<float> values;
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            const ShapeData d = keys[k]->shapeData(spacing, margin);
+            DeviceShape& s = shapes[k];
+            s.kind = d.kind;
+            s.box = d.box;
+            s.center = d.center;
+            s.radius = d.radius;
+            s.point = d.point;
+            s.normal = d.normal;
+            s.base = d.base;
+            s.axis = d.axis;
+            s.height = d.height;
+            s.outside = d.outside;
+            s.offset = d.offset;
+            if (d.kind == ShapeData::Kind::Samples) {
+                s.samples = {d.origin, 1.0f / d.spacing, d.nx, d.ny, d.nz, nullptr};
+                offsets[k] = values.size();
+                values.insert(values.end(), d.values.begin(), d.values.end());
+            }
+        }
+        samples_ = values;
+        for (std::size_t k = 0; k < keys.size(); ++k)
+            if (shapes[k].kind == ShapeData::Kind::Samples)
+                shapes[k].samples.values = raw(samples_) + offsets[k];
+        shapes_ = shapes;
+        shapeKeys_ = keys;
+    }
+
+    void uploadScales(const SolidSet& solids) {
+        std::vector<const BoundaryScale*> keys(solids.size());
+        for (std::size_t k = 0; k < solids.size(); ++k) keys[k] = solids.boundaryScaleGrid(k);
+        if (keys == scaleKeys_ && scales_.size() == keys.size()) return;
+        std::vector<shape::GridSamples> grids(keys.size());
+        std::vector<std::size_t> offsets(keys.size(), 0);
+        std::vector<float> values;
+        std::vector<const BoundaryScale*> copied;  // grids shared by bodies of one shape: once
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            if (!keys[k]) continue;
+            grids[k] = keys[k]->samples();
+            std::size_t first = 0;
+            for (; first < k; ++first)
+                if (keys[first] == keys[k]) break;
+            if (first < k) {
+                offsets[k] = offsets[first];
+                continue;
+            }
+            offsets[k] = values.size();
+            const shape::GridSamples& g = grids[k];
+            values.insert(values.end(), g.values,
+                          g.values + std::size_t(g.nx) * std::size_t(g.ny) * std::size_t(g.nz));
+        }
+        scaleValues_ = values;
+        for (std::size_t k = 0; k < keys.size(); ++k)
+            grids[k].values = keys[k] ? raw(scaleValues_) + offsets[k] : nullptr;
+        scales_ = grids;
+        scaleKeys_ = keys;
+    }
+
+    std::vector<const Solid*> shapeKeys_;
+    std::vector<const BoundaryScale*> scaleKeys_;
+    DeviceArray<DeviceShape> shapes_;
+    DeviceArray<float> samples_;
+    DeviceArray<SolidMotion> motions_;
+    DeviceArray<std::uint8_t> identity_, coupled_;
+    DeviceArray<Aabb> bounds_;
+    DeviceArray<Vec3> origins_;
+    DeviceArray<shape::GridSamples> scales_;
+    DeviceArray<float> scaleValues_;
+};
+
+#if defined(PBF_DEVICE_OPENMP)
+// Thrust's OpenMP system runs its loops on the OpenMP default team: size it
+// to pbf's thread count (pbf::setThreadCount) for the duration of a call.
+class ThreadScope {
+  public:
+    ThreadScope() : saved_(omp_get_max_threads()) { omp_set_num_threads(threadCount()); }
+    ~ThreadScope() { omp_set_num_threads(saved_); }
+    ThreadScope(const ThreadScope&) = delete;
+    ThreadScope& operator=(const ThreadScope&) = delete;
+
+  private:
+    int saved_;
+};
+#else
+// A GPU's threads are the kernels' launch configurations (Thrust's choice).
+struct ThreadScope {
+    ThreadScope() {}  // user-provided: an unused scope is not a warning
+};
+#endif
+
+using Clock = std::chrono::steady_clock;
+inline double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+class DeviceBackend final : public Backend {
+  public:
+    DeviceBackend(BackendKind kind, const SimulationParams& params)
+        : kind_(kind),
+          grid_(grid::gridLayout(params.domain, params.kernelRadius())),
+          sampleSpacing_(0.5f * params.particleRadius),
+          sampleMargin_(params.kernelRadius() + 2.0f * params.particleRadius) {
+        cellStart_.resize(std::size_t{grid_.n[0]} * grid_.n[1] * grid_.n[2] + 1);
+    }
+
+    BackendKind kind() const override { return kind_; }
+    std::size_t size() const override { return p_.size(); }
+    const StageTimes& lastStageTimes() const override { return times_; }
+    std::span<const SolidReaction> lastReactions() const override { return lastReactions_; }
+    const ParticleStore* hostState() const override { return nullptr; }
+    ParticleStore* mutableHostState() override { return nullptr; }
+
+    void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
+                float density) override {
+        if (positions.size() != velocities.size())
+            throw std::invalid_argument(
+                "Backend::append: positions and velocities differ in length");
+        if (positions.empty()) return;
+        ThreadScope threads;
+        ParticleStore added;
+        added.setNextId(p_.nextId);
+        for (std::size_t k = 0; k < positions.size(); ++k)
+            added.add(positions[k], velocities[k], density);
+        const std::size_t old = p_.size();
+        if (p_.solveAcceleration.size() == old && old > 0)
+            added.solveAcceleration.resize(positions.size());
+        forEachField(p_, [&](auto& array, auto field, bool optional) {
+            const auto& values = field(added);
+            if (optional && values.empty()) return;
+            array.resize(old + values.size());
+            thrust::copy(values.begin(), values.end(), array.begin() + old);
+        });
+        p_.nextId = added.nextId();
+    }
+
+    void download(ParticleStore& out) const override {
+        ThreadScope threads;
+        out = ParticleStore();
+        forEachField(p_, [&](auto& array, auto field, bool) {
+            auto& values = field(out);
+            values.resize(array.size());
+            thrust::copy(array.begin(), array.end(), values.begin());
+        });
+        out.setNextId(p_.nextId);
+    }
+
+    void upload(ParticleStore state) override {
+        ThreadScope threads;
+        const std::size_t n = state.size();
+        forEachField(p_, [&](auto& array, auto field, bool optional) {
+            const auto& values = field(state);
+            if (values.size() != n && !(optional && values.empty()))
+                throw std::invalid_argument("Backend::upload: particle arrays differ in length");
+            array.resize(values.size());
+            thrust::copy(values.begin(), values.end(), array.begin());
+        });
+        p_.nextId = state.nextId();
+    }
+
+    void step(const SolverContext& context, float dt) override {
+        ThreadScope threads;
+        const auto stepStart = Clock::now();
+        times_ = {};
+        const std::size_t n = p_.size();
+        if (n > std::numeric_limits<std::uint32_t>::max())
+            throw std::length_error("the GPU backend indexes particles with 32 bits");
+        const SimulationParams& params = context.params;
+        const SolidsArgument solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
+        prepare(params, solids, context.solids);
+
+        auto t = Clock::now();
+        predict(context, solids, dt);
+        times_.predict = millisecondsSince(t);
+
+        t = Clock::now();
+        auto part = Clock::now();
+        sortByCell();
+        times_.gridBuild = millisecondsSince(part);
+        part = Clock::now();
+        reorder();
+        times_.reorder = millisecondsSince(part);
+        times_.neighborSearch = millisecondsSince(t);
+
+        t = Clock::now();
+        iterate(context, solids);
+        times_.solve = millisecondsSince(t);
+
+        t = Clock::now();
+        postProcess(context, solids, dt);
+        finishReactions(context, dt);
+        times_.postProcess = millisecondsSince(t);
+        times_.total = millisecondsSince(stepStart);
+    }
+
+    float maxSpeed() const override {
+        ThreadScope threads;
+        const std::size_t n = p_.size();
+        if (n == 0) return 0.0f;
+        const float maxSquared =
+            thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)),
+                                     SpeedSquared{view(p_.velocity)}, 0.0f, thrust::maximum<float>());
+        return std::sqrt(maxSquared);
+    }
+
+    std::optional<BadParticle> findBadParticle(double speedLimit) const override {
+        ThreadScope threads;
+        const std::size_t n = p_.size();
+        if (n == 0) return std::nullopt;
+        const BadIndex test{view(p_.position), view(p_.velocity),
+                            detail::squaredSpeedLimit(speedLimit)};
+        const std::uint64_t none = ~std::uint64_t(0);
+        const std::uint64_t first = thrust::transform_reduce(
+            thrust::device, indices(), indices(std::uint32_t(n)), test, none,
+            thrust::minimum<std::uint64_t>());
+        if (first == none) return std::nullopt;
+        const std::size_t i = first;
+        const Vec3 x{p_.position.x[i], p_.position.y[i], p_.position.z[i]};
+        const Vec3 v{p_.velocity.x[i], p_.velocity.y[i], p_.velocity.z[i]};
+        return detail::describeBadParticle(i, p_.id[i], x, v, speedLimit);
+    }
+
+    StateStatistics statistics(const SolverContext& context) const override {
+        ThreadScope threads;
+        const std::size_t n = p_.size();
+        const SolidsArgument solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
+        const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
+        partials_.resize(blocks);
+        forEachIndex(blocks, StatisticsBlock{context.constants, context.params.domain, solids,
+                                             context.params.particleRadius,
+                                             static_cast<std::uint32_t>(n), view(p_.position),
+                                             view(p_.velocity), raw(p_.density),
+                                             raw(partials_)});
+        std::vector<detail::StatisticsPartial> partials(blocks);
+        thrust::copy(partials_.begin(), partials_.end(), partials.begin());
+        detail::StatisticsPartial total;
+        for (const detail::StatisticsPartial& s : partials) total += s;
+        return detail::finishStatistics(total, n, context.constants);
+    }
+
+    BackendDiagnostics diagnostics() const override {
+        BackendDiagnostics d;
+        d.memoryBytes = memoryBytes();
+        d.neighborsPerParticle = neighborsPerParticle_;
+        d.compactListShare = std::numeric_limits<double>::quiet_NaN();  // no lists: cell ranges
+        return d;
+    }
+
+  private:
+    static Float3View view(const DeviceFloat3& a) {
+        return const_cast<DeviceFloat3&>(a).view();  // kernels given it only read
+    }
+    SearchGrid searchGrid() {
+        grid::GridView g = grid_;
+        g.cellStart = raw(cellStart_);
+        return {g, search_.view(), grid_.cell * grid_.cell};
+    }
+
+    // Sizes the step's scratch for n particles and these settings (no
+    // allocation once the count and settings stop changing).
+    void prepare(const SimulationParams& params, const SolidsArgument& solids,
+                 const SolidSet* hostSolids) {
+        const std::size_t n = p_.size();
+        const bool warm = params.solver.warmStart > 0.0f;
+        // The last substep's acceleration follows the particles while the
+        // warm start is on (zero for new ones), and is dropped when it is off.
+        p_.solveAcceleration.resize(warm ? n : 0);
+        search_.resize(n);
+        corrected_.resize(n);
+        lambda_.resize(n);
+        keys_.resize(n);
+        order_.resize(n);
+        if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f) post_.resize(n);
+        if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
+        reactionsActive_ = solids.present && hostSolids->anyCoupled();
+        if (reactionsActive_) {
+            solidCount_ = solids.solids.count;
+            for (ReactionRecords& r : records_) {
+                r.solid.resize(n);
+                r.at.resize(n);
+                r.move.resize(n);
+            }
+            const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
+            reactionSums_.resize(blocks * solidCount_ * 6);
+            thrust::fill(reactionSums_.begin(), reactionSums_.end(), 0.0);
+        }
+    }
+
+    ReactionSlot slot(int k) {
+        if (!reactionsActive_) return {};
+        ReactionRecords& r = records_[k];
+        return {raw(r.solid), r.at.view(), r.move.view()};
+    }
+
+    // Adds the records of the last recording stage (slots [0, slots)) to the
+    // per-block sums.
+    void foldReactions(int slots) {
+        if (!reactionsActive_) return;
+        const std::size_t n = p_.size();
+        FoldReactions fold;
+        fold.particles = static_cast<std::uint32_t>(n);
+        fold.solidCount = solidCount_;
+        fold.coupled = solids_.coupled();
+        fold.origins = solids_.origins();
+        fold.slots[0] = slot(0);
+        fold.slots[1] = slot(1);
+        fold.slotCount = slots;
+        fold.sums = raw(reactionSums_);
+        forEachIndex((n + detail::kBlockSize - 1) / detail::kBlockSize, fold);
+    }
+
+    void finishReactions(const SolverContext& context, float dt) {
+        lastReactions_.clear();
+        if (!reactionsActive_) return;
+        const std::size_t blocks = (p_.size() + detail::kBlockSize - 1) / detail::kBlockSize;
+        reactionTotals_.resize(std::size_t{solidCount_} * 6);
+        forEachIndex(solidCount_, TotalReactions{static_cast<std::uint32_t>(blocks), solidCount_,
+                                                 raw(reactionSums_), raw(reactionTotals_)});
+        std::vector<double> totals(reactionTotals_.size());
+        thrust::copy(reactionTotals_.begin(), reactionTotals_.end(), totals.begin());
+        lastReactions_.resize(solidCount_);
+        for (std::size_t k = 0; k < solidCount_; ++k)
+            lastReactions_[k] =
+                reactionFromSums(&totals[6 * k], context.constants.particleMass, dt);
+    }
+
+    void predict(const SolverContext& context, const SolidsArgument& solids, float dt) {
+        PredictKernel k;
+        k.c = context.constants;
+        k.gravity = context.params.gravity;
+        k.dt = dt;
+        k.warm = context.params.solver.warmStart;
+        k.position = p_.position.view();
+        k.velocity = p_.velocity.view();
+        k.predicted = p_.predicted.view();
+        k.solveAcceleration = p_.solveAcceleration.view();
+        k.density = raw(p_.density);
+        k.solids = solids;
+        k.reactions = slot(0);
+        forEachIndex(p_.size(), k);
+        foldReactions(1);  // before the reorder: the blocks of the particles' old order
+    }
+
+    // Cell keys of x*, the stable sort by cell (ties keep their order, so the
+    // result does not depend on the thread count), and the cell table:
+    // cellStart[c] = first sorted index whose cell is >= c.
+    void sortByCell() {
+        const std::size_t n = p_.size();
+        forEachIndex(n, CellKeyKernel{grid_, p_.predicted.view(), raw(keys_), raw(order_)});
+        thrust::stable_sort_by_key(thrust::device, keys_.begin(), keys_.end(), order_.begin());
+        thrust::lower_bound(thrust::device, keys_.begin(), keys_.end(), indices(),
+                            indices(static_cast<std::uint32_t>(cellStart_.size())),
+                            cellStart_.begin());
+    }
+
+    // Every particle field permuted by the sort's order; x* also kept as the
+    // search positions (StencilNeighbors).
+    void reorder() {
+        const std::size_t n = p_.size();
+        forEachField(p_, [&](auto& array, auto, bool) {
+            if (array.size() != n) return;  // an optional field that is off
+            using T = typename std::decay_t<decltype(array)>::value_type;
+            if constexpr (std::is_same_v<T, float>) {
+                gatherFloat_.resize(n);
+                thrust::gather(thrust::device, order_.begin(), order_.end(), array.begin(),
+                               gatherFloat_.begin());
+                array.swap(gatherFloat_);
+            } else {
+                gatherIndex_.resize(n);
+                thrust::gather(thrust::device, order_.begin(), order_.end(), array.begin(),
+                               gatherIndex_.begin());
+                array.swap(gatherIndex_);
+            }
+        });
+        thrust::copy(thrust::device, p_.predicted.x.begin(), p_.predicted.x.end(), search_.x.begin());
+        thrust::copy(thrust::device, p_.predicted.y.begin(), p_.predicted.y.end(), search_.y.begin());
+        thrust::copy(thrust::device, p_.predicted.z.begin(), p_.predicted.z.end(), search_.z.begin());
+    }
+
+    // Alg. 1 l. 8-19, as the reference backend: a density pass, the
+    // tolerance's test (core/iteration_control.hpp: the compression summed
+    // in fixed point, exact in any order), a correction pass; Jacobi.
+    void iterate(const SolverContext& context, const SolidsArgument& solids) {
+        const SolverConstants& c = context.constants;
+        const std::size_t n = p_.size();
+        const IterationControl control(context.params.solver);
+        const SearchGrid search = searchGrid();
+        for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
+            auto part = Clock::now();
+            forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(),
+                                                raw(p_.density), raw(lambda_)});
+            times_.lambda += millisecondsSince(part);
+            if (control.errorControlled()) {
+                const std::int64_t compression = thrust::transform_reduce(
+                    thrust::device, indices(), indices(std::uint32_t(n)),
+                    CompressionOf{c, raw(p_.density)}, std::int64_t{0},
+                    thrust::plus<std::int64_t>());
+                if (control.converged(corrections, averageCompression(compression, n))) break;
+            }
+            part = Clock::now();
+            CorrectionKernel k;
+            k.c = c;
+            k.solids = solids;
+            k.search = search;
+            k.position = p_.position.view();
+            k.predicted = p_.predicted.view();
+            k.corrected = corrected_.view();
+            k.lambda = {raw(lambda_)};
+            k.boundaryTerm = slot(0);
+            k.projection = slot(1);
+            forEachIndex(n, k);
+            foldReactions(2);
+            p_.predicted.x.swap(corrected_.x);
+            p_.predicted.y.swap(corrected_.y);
+            p_.predicted.z.swap(corrected_.z);
+            times_.deltaP += millisecondsSince(part);
+            times_.iterations += 1.0;
+        }
+    }
+
+    void postProcess(const SolverContext& context, const SolidsArgument& solids, float dt) {
+        const SolverConstants& c = context.constants;
+        const SimulationParams& params = context.params;
+        const std::size_t n = p_.size();
+        const SearchGrid search = searchGrid();
+        forEachIndex(n, VelocityKernel{dt, params.solver.warmStart > 0.0f, p_.position.view(),
+                                       p_.predicted.view(), p_.velocity.view(),
+                                       p_.solveAcceleration.view()});
+        const FluidParams& fluid = params.fluid;
+        const bool withVorticity = fluid.vorticity > 0.0f;
+        if (fluid.viscosity > 0.0f || withVorticity) {
+            const Float3View omega = withVorticity ? vorticity_.view() : Float3View{};
+            forEachIndex(n, XsphVorticityKernel{c, fluid.viscosity, search, p_.predicted.view(),
+                                                p_.velocity.view(), post_.view(), omega,
+                                                {raw(p_.density)}});
+            if (withVorticity)
+                forEachIndex(n, ConfinementKernel{c, fluid.vorticity, dt, search,
+                                                  p_.predicted.view(), omega, post_.view(),
+                                                  {raw(p_.density)}});
+            p_.velocity.x.swap(post_.x);
+            p_.velocity.y.swap(post_.y);
+            p_.velocity.z.swap(post_.z);
+        }
+        const SolverParams& s = params.solver;
+        forEachIndex(n, RespondCommitKernel{c, s.restitution, s.friction, dt, solids,
+                                            p_.predicted.view(), p_.velocity.view(),
+                                            p_.position.view(), slot(0)});
+        foldReactions(1);
+    }
+
+    std::size_t memoryBytes() const {
+        std::size_t bytes = 0;
+        forEachField(p_, [&](auto& array, auto, bool) { bytes += bytesOf(array); });
+        bytes += search_.bytes() + corrected_.bytes() + post_.bytes() + vorticity_.bytes();
+        bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
+        bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
+        for (const ReactionRecords& r : records_)
+            bytes += bytesOf(r.solid) + r.at.bytes() + r.move.bytes();
+        bytes += bytesOf(reactionSums_) + bytesOf(reactionTotals_) + solids_.bytes();
+        // The sort's own double buffers (keys and values), allocated inside it.
+        bytes += 2 * sizeof(std::uint32_t) * keys_.size();
+        return bytes;
+    }
+
+    struct ReactionRecords {
+        DeviceArray<std::uint32_t> solid;
+        DeviceFloat3 at, move;
+    };
+
+    BackendKind kind_;
+    grid::GridView grid_;  // the layout; cellStart points into cellStart_ when used
+    float sampleSpacing_;
+    float sampleMargin_;
+    DeviceParticles p_;
+    mutable DeviceSolidStore solids_;  // refreshed by every call given solids
+    // The step's scratch.
+    DeviceFloat3 search_;     // x* at the neighbour search
+    DeviceFloat3 corrected_;  // the correction pass's output (Jacobi)
+    DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
+    DeviceFloat3 vorticity_;  // omega, while confinement is on
+    DeviceArray<float> lambda_;
+    DeviceArray<std::uint32_t> keys_, order_, cellStart_;
+    DeviceArray<float> gatherFloat_;
+    DeviceArray<std::uint32_t> gatherIndex_;
+    mutable DeviceArray<detail::StatisticsPartial> partials_;
+    // Coupled solids' reactions: two record slots, per-block sums, totals.
+    bool reactionsActive_ = false;
+    std::uint32_t solidCount_ = 0;
+    ReactionRecords records_[2];
+    DeviceArray<double> reactionSums_;
+    DeviceArray<double> reactionTotals_;
+    std::vector<SolidReaction> lastReactions_;
+    double neighborsPerParticle_ = std::numeric_limits<double>::quiet_NaN();
+    StageTimes times_;
+};
+
+}  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE
