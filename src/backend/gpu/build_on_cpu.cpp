@@ -4,6 +4,7 @@
 // this file with -DTHRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP.
 #include <omp.h>
 
+#define PBF_DEVICE_KIND BackendKind::CudaOnCpu
 #define PBF_DEVICE_NAMESPACE on_cpu
 #define PBF_DEVICE_OPENMP 1
 #include "backend/gpu/device_backend_impl.hpp"
@@ -24,7 +25,7 @@ DeviceStatus status() {
 }
 
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions&) {
-    return std::make_unique<DeviceBackend>(BackendKind::CudaOnCpu, params);
+    return std::make_unique<DeviceBackend>(PBF_DEVICE_KIND, params);
 }
 
 }  // namespace pbf::gpu::on_cpu

@@ -2,6 +2,7 @@
 // same source as build_on_cpu.cpp, whose CPU build the tests run.
 #include <cuda_runtime.h>
 
+#define PBF_DEVICE_KIND BackendKind::Cuda
 #define PBF_DEVICE_NAMESPACE on_gpu
 #include "backend/gpu/device_backend_impl.hpp"
 
@@ -54,7 +55,7 @@ DeviceStatus status() {
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions&) {
     const DeviceStatus s = status();
     if (!s.usable) throw std::runtime_error("device cuda: " + s.description);
-    return std::make_unique<DeviceBackend>(BackendKind::Cuda, params);
+    return std::make_unique<DeviceBackend>(PBF_DEVICE_KIND, params);
 }
 
 }  // namespace pbf::gpu::on_gpu

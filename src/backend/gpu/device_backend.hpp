@@ -9,8 +9,11 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "pbf/backend.hpp"
 
@@ -24,15 +27,32 @@ struct DeviceStatus {
     std::size_t freeBytes = 0;  // device memory free now (host memory for on_cpu)
 };
 
+// Tests (tests/backend/gpu/device_stages_test.cpp): the kernels of one step
+// run one at a time on start positions x and predictions x* (no predict
+// stage), in the backend's particle order after its sort by cell.
+struct StageOutputs {
+    std::vector<std::uint32_t> input;  // the input index of each particle
+    std::vector<Vec3> x, xStar;
+    std::vector<float> density, lambda;      // at x*
+    std::vector<Vec3> corrected;             // x* + dp into the box, out of the solids
+    std::vector<Vec3> velocity;              // (x* - x) / dt
+    std::vector<Vec3> xsphVelocity;          // after XSPH
+    std::vector<Vec3> vorticity;             // omega (with fluid.vorticity > 0)
+};
+
 namespace on_gpu {
 DeviceStatus status();
 // Throws std::runtime_error naming the device when it cannot run here.
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
+StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt);
 }  // namespace on_gpu
 
 namespace on_cpu {
 DeviceStatus status();
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
+StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt);
 }  // namespace on_cpu
 
 // Device memory the backend needs per particle for these settings (the

@@ -52,8 +52,8 @@
 #include "pbf/threading.hpp"
 #include "world/boundary_scale.hpp"
 
-#if !defined(PBF_DEVICE_NAMESPACE)
-#error "define PBF_DEVICE_NAMESPACE (on_gpu or on_cpu) before including this header"
+#if !defined(PBF_DEVICE_NAMESPACE) || !defined(PBF_DEVICE_KIND)
+#error "define PBF_DEVICE_NAMESPACE (on_gpu, on_cpu) and PBF_DEVICE_KIND before including this"
 #endif
 
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
@@ -436,6 +436,66 @@ class DeviceBackend final : public Backend {
         return d;
     }
 
+    // The kernels of one step run one at a time (device_backend.hpp: StageOutputs).
+    StageOutputs runStages(const SolverContext& context, std::span<const Vec3> x,
+                           std::span<const Vec3> xStar, float dt) {
+        ThreadScope threads;
+        ParticleStore state;
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            state.add(x[k], {}, context.constants.restDensity);
+            state.predicted.set(k, xStar[k]);
+        }
+        upload(std::move(state));
+        const std::size_t n = p_.size();
+        const SolidsArgument solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
+        prepare(context.params, solids, context.solids);
+        sortByCell();
+        reorder();
+        const SolverConstants& c = context.constants;
+        const SearchGrid search = searchGrid();
+        forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(),
+                                            raw(p_.density), raw(lambda_)});
+        CorrectionKernel k;
+        k.c = c;
+        k.solids = solids;
+        k.search = search;
+        k.position = p_.position.view();
+        k.predicted = p_.predicted.view();
+        k.corrected = corrected_.view();
+        k.lambda = {raw(lambda_)};
+        forEachIndex(n, k);
+        forEachIndex(n, VelocityKernel{dt, false, p_.position.view(), p_.predicted.view(),
+                                       p_.velocity.view(), {}});
+        vorticity_.resize(n);
+        post_.resize(n);
+        forEachIndex(n, XsphVorticityKernel{c, context.params.fluid.viscosity, search,
+                                            p_.predicted.view(), p_.velocity.view(),
+                                            post_.view(), vorticity_.view(), {raw(p_.density)}});
+        StageOutputs out;
+        const auto vectors = [n](DeviceFloat3& a) {
+            std::vector<float> xs(n), ys(n), zs(n);
+            thrust::copy(a.x.begin(), a.x.end(), xs.begin());
+            thrust::copy(a.y.begin(), a.y.end(), ys.begin());
+            thrust::copy(a.z.begin(), a.z.end(), zs.begin());
+            std::vector<Vec3> v(n);
+            for (std::size_t i = 0; i < n; ++i) v[i] = {xs[i], ys[i], zs[i]};
+            return v;
+        };
+        out.input.resize(n);
+        thrust::copy(p_.id.begin(), p_.id.end(), out.input.begin());
+        out.x = vectors(p_.position);
+        out.xStar = vectors(p_.predicted);
+        out.density.resize(n);
+        thrust::copy(p_.density.begin(), p_.density.end(), out.density.begin());
+        out.lambda.resize(n);
+        thrust::copy(lambda_.begin(), lambda_.end(), out.lambda.begin());
+        out.corrected = vectors(corrected_);
+        out.velocity = vectors(p_.velocity);
+        out.xsphVelocity = vectors(post_);
+        out.vorticity = vectors(vorticity_);
+        return out;
+    }
+
   private:
     static Float3View view(const DeviceFloat3& a) {
         return const_cast<DeviceFloat3&>(a).view();  // kernels given it only read
@@ -683,5 +743,16 @@ class DeviceBackend final : public Backend {
     double neighborsPerParticle_ = std::numeric_limits<double>::quiet_NaN();
     StageTimes times_;
 };
+
+}  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE
+
+namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
+
+StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt) {
+    const SolverConstants constants = SolverConstants::from(params);
+    DeviceBackend backend(PBF_DEVICE_KIND, params);
+    return backend.runStages({params, constants, solids}, x, xStar, dt);
+}
 
 }  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE

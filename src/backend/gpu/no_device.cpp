@@ -25,6 +25,10 @@ DeviceStatus on_gpu::status() {
 std::unique_ptr<Backend> on_gpu::makeBackend(const SimulationParams&, const BackendOptions&) {
     unavailable(status(), "cuda");
 }
+StageOutputs on_gpu::runStages(const SimulationParams&, const SolidSet*, std::span<const Vec3>,
+                               std::span<const Vec3>, float) {
+    unavailable(status(), "cuda");
+}
 #endif
 
 #if defined(PBF_NO_THRUST_BUILD)
@@ -36,6 +40,10 @@ DeviceStatus on_cpu::status() {
     return s;
 }
 std::unique_ptr<Backend> on_cpu::makeBackend(const SimulationParams&, const BackendOptions&) {
+    unavailable(status(), "cuda-on-cpu");
+}
+StageOutputs on_cpu::runStages(const SimulationParams&, const SolidSet*, std::span<const Vec3>,
+                               std::span<const Vec3>, float) {
     unavailable(status(), "cuda-on-cpu");
 }
 #endif
