@@ -322,6 +322,7 @@ class DeviceBackend final : public Backend {
             thrust::copy(values.begin(), values.end(), array.begin() + old);
         });
         p_.nextId = added.nextId();
+        searchValid_ = false;
     }
 
     void download(ParticleStore& out) const override {
@@ -346,6 +347,7 @@ class DeviceBackend final : public Backend {
             thrust::copy(values.begin(), values.end(), array.begin());
         });
         p_.nextId = state.nextId();
+        searchValid_ = false;
     }
 
     void step(const SolverContext& context, float dt) override {
@@ -381,6 +383,7 @@ class DeviceBackend final : public Backend {
         finishReactions(context, dt);
         times_.postProcess = millisecondsSince(t);
         times_.total = millisecondsSince(stepStart);
+        searchValid_ = true;
     }
 
     float maxSpeed() const override {
@@ -431,7 +434,7 @@ class DeviceBackend final : public Backend {
     BackendDiagnostics diagnostics() const override {
         BackendDiagnostics d;
         d.memoryBytes = memoryBytes();
-        d.neighborsPerParticle = neighborsPerParticle_;
+        d.neighborsPerParticle = neighborsPerParticle();
         d.compactListShare = std::numeric_limits<double>::quiet_NaN();  // no lists: cell ranges
         return d;
     }
@@ -500,10 +503,21 @@ class DeviceBackend final : public Backend {
     static Float3View view(const DeviceFloat3& a) {
         return const_cast<DeviceFloat3&>(a).view();  // kernels given it only read
     }
-    SearchGrid searchGrid() {
+    SearchGrid searchGrid() const {
         grid::GridView g = grid_;
         g.cellStart = raw(cellStart_);
-        return {g, search_.view(), grid_.cell * grid_.cell};
+        return {g, view(search_), grid_.cell * grid_.cell};
+    }
+
+    // The average neighbour count of the last step's search (NaN before one).
+    double neighborsPerParticle() const {
+        ThreadScope threads;
+        const std::size_t n = p_.size();
+        if (!searchValid_ || n == 0) return std::numeric_limits<double>::quiet_NaN();
+        const std::uint64_t total = thrust::transform_reduce(
+            thrust::device, indices(), indices(std::uint32_t(n)), NeighborCount{searchGrid()},
+            std::uint64_t{0}, thrust::plus<std::uint64_t>());
+        return double(total) / double(n);
     }
 
     // Sizes the step's scratch for n particles and these settings (no
@@ -740,7 +754,7 @@ class DeviceBackend final : public Backend {
     DeviceArray<double> reactionSums_;
     DeviceArray<double> reactionTotals_;
     std::vector<SolidReaction> lastReactions_;
-    double neighborsPerParticle_ = std::numeric_limits<double>::quiet_NaN();
+    bool searchValid_ = false;  // search_ and cellStart_ are those of the current particles
     StageTimes times_;
 };
 

@@ -330,6 +330,16 @@ struct TotalReactions {
     }
 };
 
+// The number of neighbours of particle i (for `pbf bench`).
+struct NeighborCount {
+    SearchGrid search;
+    PBF_HD std::uint64_t operator()(std::uint32_t i) const {
+        std::uint64_t count = 0;
+        search.of(i)([&](std::uint32_t) { ++count; });
+        return count;
+    }
+};
+
 // |v_i|^2, for the largest speed (a max: exact in any order).
 struct SpeedSquared {
     Float3View velocity;
