@@ -73,7 +73,7 @@ endif()
 # Compiles `source` as the GPU backend's CPU build into `target` with the
 # Thrust headers in `include_dir` (an extra -isystem unless they are in
 # /usr/include, which is searched anyway: naming it would break
-# libstdc++'s #include_next).
+# libstdc++'s #include_next). Further arguments: extra definitions.
 function(pbf_add_thrust_omp_source target source include_dir)
   set(options)
   if(NOT include_dir STREQUAL "/usr/include")
@@ -85,6 +85,6 @@ function(pbf_add_thrust_omp_source target source include_dir)
     list(APPEND options -fno-sanitize=null)
   endif()
   set_source_files_properties(${source} TARGET_DIRECTORY ${target} PROPERTIES
-                              COMPILE_DEFINITIONS "THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP"
+                              COMPILE_DEFINITIONS "THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP;${ARGN}"
                               COMPILE_OPTIONS "${options}")
 endfunction()

@@ -56,6 +56,14 @@
 #error "define PBF_DEVICE_NAMESPACE (on_gpu, on_cpu) and PBF_DEVICE_KIND before including this"
 #endif
 
+// Thrust wrapped in a namespace of its own (a second Thrust in one program,
+// tests/backend/gpu/build_on_cpu_thrust117.cpp): `thrust::` names it here.
+#if defined(THRUST_CUB_WRAPPED_NAMESPACE)
+namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
+namespace thrust = ::THRUST_CUB_WRAPPED_NAMESPACE::thrust;
+}
+#endif
+
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
 
 template <class T>
