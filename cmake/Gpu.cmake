@@ -7,6 +7,10 @@
 #                finds nvcc. sm_90 machine code plus compute_90 PTX (newer GPUs
 #                JIT-compile it); override with -DCMAKE_CUDA_ARCHITECTURES.
 #
+# The sanitizer presets (asan, tsan, fuzz) set PBF_CUDA=OFF: nvcc code is not
+# instrumented, and the release build already compiles it; they test the
+# cuda-on-cpu build.
+#
 # Without either, pbf builds without that device: `--device cuda` says why,
 # and the device's tests skip with a message.
 include(CheckLanguage)

@@ -32,9 +32,10 @@ std::string versionText() {
     std::string text = std::string("pbf ") + kVersion + "\ndevices:";
     for (const BackendKind kind : deviceKinds()) {
         const DeviceInfo info = deviceInfo(kind);
-        text += fmt::format("\n  {:<12} {}{}", backendName(kind),
-                            info.usable ? "" : (info.built ? "built, not usable here: " : "not built: "),
-                            info.description);
+        text += fmt::format(
+            "\n  {:<12} {}{}", backendName(kind),
+            info.usable ? "" : (info.built ? "built, not usable here: " : "not built: "),
+            info.description);
     }
     return text;
 }

@@ -41,8 +41,9 @@ int main(int argc, char** argv) {
         return 1;
     }
     CLI::App app{"pbf: Position Based Fluids water simulator (Macklin & Mueller 2013)", "pbf"};
-    app.set_version_flag("--version", [] { return pbf::cli::versionText(); },
-                         "Print the version and the devices built in, then exit");
+    app.set_version_flag(
+        "--version", [] { return pbf::cli::versionText(); },
+        "Print the version and the devices built in, then exit");
     app.require_subcommand(1);
     const auto run = pbf::cli::addRunCommand(app);
     const auto bench = pbf::cli::addBenchCommand(app);

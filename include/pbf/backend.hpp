@@ -106,9 +106,9 @@ std::vector<BackendKind> deviceKinds();
 
 // Backend-specific figures for `pbf bench` (NaN where they do not apply).
 struct BackendDiagnostics {
-    std::size_t memoryBytes = 0;         // particle state + solver scratch + search structures
-    double neighborsPerParticle = 0.0;   // average neighbour-list length
-    double compactListShare = 0.0;       // blocks with 16-bit neighbour lists, of all
+    std::size_t memoryBytes = 0;        // particle state + solver scratch + search structures
+    double neighborsPerParticle = 0.0;  // average neighbour-list length
+    double compactListShare = 0.0;      // blocks with 16-bit neighbour lists, of all
 };
 
 class Backend {

@@ -38,12 +38,12 @@ class BoundaryScale;  // src/world/boundary_scale.hpp
 struct ShapeData {
     enum class Kind { Box, Sphere, Plane, Cylinder, Samples };
     Kind kind = Kind::Samples;
-    Aabb box;              // Box
-    Vec3 center;           // Sphere
-    float radius = 0.0f;   // Sphere, Cylinder
-    Vec3 point, normal;    // Plane (unit normal)
-    Vec3 base, axis;       // Cylinder (unit axis)
-    float height = 0.0f;   // Cylinder
+    Aabb box;             // Box
+    Vec3 center;          // Sphere
+    float radius = 0.0f;  // Sphere, Cylinder
+    Vec3 point, normal;   // Plane (unit normal)
+    Vec3 base, axis;      // Cylinder (unit axis)
+    float height = 0.0f;  // Cylinder
     // Samples: signed distances at the nodes origin + (i, j, k) * spacing
     // (i fastest), `outside` beyond them; `offset` is subtracted from the
     // interpolated value (an open mesh's shell half-thickness).
@@ -163,7 +163,9 @@ struct Transform {
     Vec3 scale{1.0f, 1.0f, 1.0f};
     Vec3 rotationDegrees;
     Vec3 translation;
-    Vec3 apply(const Vec3& p) const { return pose().toWorld({p.x * scale.x, p.y * scale.y, p.z * scale.z}); }
+    Vec3 apply(const Vec3& p) const {
+        return pose().toWorld({p.x * scale.x, p.y * scale.y, p.z * scale.z});
+    }
     Pose pose() const { return {translation, fromEulerDegrees(rotationDegrees)}; }
 };
 

@@ -65,11 +65,11 @@ struct SolidDescription {
 // places a mesh (scale, rotation, translation) and its rotation also turns a
 // box about its centre. Exactly one of density and mass is given (> 0).
 struct RigidBodyDescription {
-    SolidDescription shape;  // Box, Sphere, Cylinder or Mesh (a closed mesh)
-    float density = 0.0f;    // kg/m^3, (0, 1e5]; 0: use mass
-    float mass = 0.0f;       // kg, (0, 1e9]; 0: use density
-    Vec3 velocity;           // initial velocity of the centre of mass, m/s
-    Vec3 angularVelocity;    // initial angular velocity, rad/s (world axes)
+    SolidDescription shape;    // Box, Sphere, Cylinder or Mesh (a closed mesh)
+    float density = 0.0f;      // kg/m^3, (0, 1e5]; 0: use mass
+    float mass = 0.0f;         // kg, (0, 1e9]; 0: use density
+    Vec3 velocity;             // initial velocity of the centre of mass, m/s
+    Vec3 angularVelocity;      // initial angular velocity, rad/s (world axes)
     float friction = 0.5f;     // Coulomb coefficient in contacts, [0, 10]
     float restitution = 0.0f;  // share of the normal speed kept in contacts, [0, 1]
     std::string field;         // "rigid_bodies[0]", for messages (set by validate if empty)

@@ -136,8 +136,8 @@ PBF_HD void addSolidContribution(const SolverConstants& c, const Solids* solids,
 // `touched` (may be null) receives the solid that stopped or pushed the
 // particle (the last one, at a corner of two), else is left unchanged.
 template <class Solids>
-PBF_HD Vec3 resolveSolidCollision(const SolverConstants& c, const Solids& solids,
-                                  const Vec3& start, Vec3 x, std::size_t* touched = nullptr) {
+PBF_HD Vec3 resolveSolidCollision(const SolverConstants& c, const Solids& solids, const Vec3& start,
+                                  Vec3 x, std::size_t* touched = nullptr) {
     const float radius = c.particleRadius;
     const float reach = c.h;
     const float hitDistance = 0.05f * radius;
@@ -180,8 +180,8 @@ PBF_HD Vec3 resolveSolidCollision(const SolverConstants& c, const Solids& solids
 // the normal velocity into the wall is reflected with `restitution`; the
 // tangential velocity loses Coulomb friction proportional to the normal
 // impulse. Returns the new velocity.
-PBF_HD inline Vec3 respondToWalls(const Aabb& box, float restitution, float friction,
-                                  const Vec3& x, Vec3 v) {
+PBF_HD inline Vec3 respondToWalls(const Aabb& box, float restitution, float friction, const Vec3& x,
+                                  Vec3 v) {
     const float tolerance =
         1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
     for (int axis = 0; axis < 3; ++axis) {

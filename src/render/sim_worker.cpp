@@ -5,10 +5,9 @@
 namespace pbf::render {
 
 SimulationWorker::SimulationWorker(const Scene& scene, bool playing, BackendKind device)
-    : definition_(scene),
-      worldOptions_{device, {}},
-      playing_(playing),
-      thread_([this] { run(); }) {}
+    : definition_(scene), worldOptions_{device, {}}, playing_(playing), thread_([this] {
+          run();
+      }) {}
 
 SimulationWorker::~SimulationWorker() {
     quit_ = true;

@@ -81,7 +81,8 @@ PBF_HD inline float cylinderDistance(const Vec3& base, const Vec3& axis, float r
     const float along = dot(d, axis);
     const Vec3 radialVector = d - axis * along;
     const float radial = length(radialVector);
-    const Vec3 radialDirection = radial > 0.0f ? radialVector * (1.0f / radial) : perpendicularTo(axis);
+    const Vec3 radialDirection =
+        radial > 0.0f ? radialVector * (1.0f / radial) : perpendicularTo(axis);
     const float halfHeight = 0.5f * height;
     const float qa = std::fabs(along - halfHeight) - halfHeight;  // axial
     const float qr = radial - radius;                             // radial
@@ -160,8 +161,8 @@ struct GridSamples {
             for (int b = 0; b < 2; ++b)
                 for (int c = 0; c < 2; ++c) v[a][b][c] = at(i + a, j + b, k + c);
         Vec3 gradient;
-        const float d = trilinearWithGradient(v, g.x - float(i), g.y - float(j), g.z - float(k),
-                                              gradient);
+        const float d =
+            trilinearWithGradient(v, g.x - float(i), g.y - float(j), g.z - float(k), gradient);
         normal = normalised(gradient);
         return d;
     }

@@ -139,7 +139,8 @@ Aabb worldBounds(const Aabb& local, const Pose& pose) {
 }  // namespace
 
 ShapeData Solid::shapeData(float spacing, float margin) const {
-    if (!(spacing > 0.0f)) throw std::invalid_argument("Solid::shapeData: spacing must be positive");
+    if (!(spacing > 0.0f))
+        throw std::invalid_argument("Solid::shapeData: spacing must be positive");
     const Aabb b = bounds();
     ShapeData d;
     d.kind = ShapeData::Kind::Samples;
@@ -154,8 +155,8 @@ ShapeData Solid::shapeData(float spacing, float margin) const {
         for (int j = 0; j < d.ny; ++j)
             for (int i = 0; i < d.nx; ++i) {
                 Vec3 normal;
-                d.values[(std::size_t(k) * d.ny + j) * d.nx + i] = signedDistance(
-                    d.origin + Vec3{float(i), float(j), float(k)} * spacing, normal);
+                d.values[(std::size_t(k) * d.ny + j) * d.nx + i] =
+                    signedDistance(d.origin + Vec3{float(i), float(j), float(k)} * spacing, normal);
             }
     // Beyond the samples the solid is at least the margin away.
     d.outside = margin;

@@ -58,7 +58,8 @@ void World::applySettings(const SimulationParams& settings) {
     if (settings.particleRadius != fixed.particleRadius)
         throw SceneError(prefix + "particle_radius: cannot change while the world runs");
     if (settings.solver.kernelRadiusFactor != fixed.solver.kernelRadiusFactor)
-        throw SceneError(prefix + "solver.kernel_radius_factor: cannot change while the world runs");
+        throw SceneError(prefix +
+                         "solver.kernel_radius_factor: cannot change while the world runs");
     settings_ = settings;
     constants_ = SolverConstants::from(settings_);
 }
@@ -277,8 +278,8 @@ void World::applyHostEdits() {
 
 void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
     if (i >= solids_->size())
-        throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) + " (the world has " +
-                                std::to_string(solids_->size()) + ")");
+        throw std::out_of_range("setSolidMotion: no solid " + std::to_string(i) +
+                                " (the world has " + std::to_string(solids_->size()) + ")");
     if (solids_->coupled(i))
         throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
                                     " is a rigid body's surface; use setBodyState");
@@ -328,9 +329,9 @@ WorldState World::captureState() const {
 
 void World::restoreState(WorldState state) {
     if (state.emitters.size() != emitters_.size())
-        throw std::invalid_argument("World::restoreState: " + std::to_string(state.emitters.size()) +
-                                    " emitter states for " + std::to_string(emitters_.size()) +
-                                    " emitters");
+        throw std::invalid_argument(
+            "World::restoreState: " + std::to_string(state.emitters.size()) +
+            " emitter states for " + std::to_string(emitters_.size()) + " emitters");
     if (state.bodies.size() != bodies_->size())
         throw std::invalid_argument("World::restoreState: " + std::to_string(state.bodies.size()) +
                                     " body states for " + std::to_string(bodies_->size()) +

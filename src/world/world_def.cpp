@@ -1,5 +1,7 @@
 // Validation of a world definition and what is built from it: the solids and
 // the fluid blocks' particles.
+#include "pbf/world_def.hpp"
+
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -9,7 +11,6 @@
 #include <sstream>
 
 #include "pbf/scene.hpp"
-#include "pbf/world_def.hpp"
 
 namespace pbf {
 namespace {
@@ -55,8 +56,9 @@ std::string validateBlocks(const WorldDef& def) {
         const Vec3 e = block.box.extent();
         if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
             latticeCount(e.z, spacing) < 1)
-            return field + ".max: the block is empty: every side must be at least one particle "
-                           "spacing (2 r = " +
+            return field +
+                   ".max: the block is empty: every side must be at least one particle "
+                   "spacing (2 r = " +
                    std::to_string(spacing) + " m) long";
         for (std::size_t k = 0; k < i; ++k)
             if (overlaps(block.box, def.fluidBlocks[k].box))
@@ -107,7 +109,8 @@ std::string validateShape(const SolidDescription& d, const std::string& field) {
 
 std::string validateSolids(const WorldDef& def) {
     for (std::size_t i = 0; i < def.solids.size(); ++i)
-        if (std::string problem = validateShape(def.solids[i], fieldOf(def.solids[i].field, "solids", i));
+        if (std::string problem =
+                validateShape(def.solids[i], fieldOf(def.solids[i].field, "solids", i));
             !problem.empty())
             return problem;
     return {};
@@ -288,17 +291,15 @@ void checkMemory(const WorldDef& def, std::size_t availableBytes) {
 void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::string& description,
                        std::size_t availableBytes) {
     const std::size_t particles = countParticles(def);
-    const double needed =
-        double(particles) *
-            double(deviceBytesPerParticle(def.simulation, !def.rigidBodies.empty())) +
-        double(deviceCellTableBytes(def.simulation));
+    const double needed = double(particles) * double(deviceBytesPerParticle(
+                                                  def.simulation, !def.rigidBodies.empty())) +
+                          double(deviceCellTableBytes(def.simulation));
     if (needed > double(availableBytes))
-        throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
-                         std::to_string(particles) + " particles need about " +
+        throw SceneError((def.source.empty() ? def.name : def.source) +
+                         ": fluid_blocks: " + std::to_string(particles) + " particles need about " +
                          std::to_string(static_cast<long long>(needed / (1 << 20))) +
-                         " MiB on device " + std::string(backendName(device)) + " (" +
-                         description + "), more than the " +
-                         std::to_string(availableBytes >> 20) +
+                         " MiB on device " + std::string(backendName(device)) + " (" + description +
+                         "), more than the " + std::to_string(availableBytes >> 20) +
                          " MiB free there; use larger particles or smaller blocks");
 }
 

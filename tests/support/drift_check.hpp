@@ -71,8 +71,8 @@ inline void perturbByOneUlp(World& world) {
 }
 
 struct DriftOptions {
-    int substeps = 50;      // frames (one substep each in the scenes used)
-    double visible = 0.1;   // spacings: the drift must stay far below this
+    int substeps = 50;     // frames (one substep each in the scenes used)
+    double visible = 0.1;  // spacings: the drift must stay far below this
     // Distance between the two worlds, metres (default: the largest
     // particle distance by id; bodies: the body's centre).
     std::function<double(const World&, const World&)> distance = maxPositionDifference;

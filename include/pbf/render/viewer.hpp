@@ -4,11 +4,11 @@
 #pragma once
 
 #include <filesystem>
-#include <string>
 #include <optional>
+#include <string>
 
-#include "pbf/render/camera.hpp"
 #include "pbf/backend.hpp"
+#include "pbf/render/camera.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/scene.hpp"
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "backend/cpu/grid_stencil.hpp"
-#include "core/parallel.hpp"
 #include "backend/cpu/simd.hpp"
+#include "core/parallel.hpp"
 
 namespace pbf {
 

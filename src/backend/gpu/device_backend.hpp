@@ -33,11 +33,11 @@ struct DeviceStatus {
 struct StageOutputs {
     std::vector<std::uint32_t> input;  // the input index of each particle
     std::vector<Vec3> x, xStar;
-    std::vector<float> density, lambda;      // at x*
-    std::vector<Vec3> corrected;             // x* + dp into the box, out of the solids
-    std::vector<Vec3> velocity;              // (x* - x) / dt
-    std::vector<Vec3> xsphVelocity;          // after XSPH
-    std::vector<Vec3> vorticity;             // omega (with fluid.vorticity > 0)
+    std::vector<float> density, lambda;  // at x*
+    std::vector<Vec3> corrected;         // x* + dp into the box, out of the solids
+    std::vector<Vec3> velocity;          // (x* - x) / dt
+    std::vector<Vec3> xsphVelocity;      // after XSPH
+    std::vector<Vec3> vorticity;         // omega (with fluid.vorticity > 0)
 };
 
 namespace on_gpu {

@@ -124,20 +124,34 @@ struct DeviceParticles {
 // per particle. Upload, download, append and the reorder by cell go through it.
 template <class Particles, class Fn>
 void forEachField(Particles& d, Fn&& fn) {
-    fn(d.position.x, [](auto& s) -> auto& { return s.position.x; }, false);
-    fn(d.position.y, [](auto& s) -> auto& { return s.position.y; }, false);
-    fn(d.position.z, [](auto& s) -> auto& { return s.position.z; }, false);
-    fn(d.predicted.x, [](auto& s) -> auto& { return s.predicted.x; }, false);
-    fn(d.predicted.y, [](auto& s) -> auto& { return s.predicted.y; }, false);
-    fn(d.predicted.z, [](auto& s) -> auto& { return s.predicted.z; }, false);
-    fn(d.velocity.x, [](auto& s) -> auto& { return s.velocity.x; }, false);
-    fn(d.velocity.y, [](auto& s) -> auto& { return s.velocity.y; }, false);
-    fn(d.velocity.z, [](auto& s) -> auto& { return s.velocity.z; }, false);
-    fn(d.solveAcceleration.x, [](auto& s) -> auto& { return s.solveAcceleration.x; }, true);
-    fn(d.solveAcceleration.y, [](auto& s) -> auto& { return s.solveAcceleration.y; }, true);
-    fn(d.solveAcceleration.z, [](auto& s) -> auto& { return s.solveAcceleration.z; }, true);
-    fn(d.density, [](auto& s) -> auto& { return s.density; }, false);
-    fn(d.id, [](auto& s) -> auto& { return s.id; }, false);
+    fn(
+        d.position.x, [](auto& s) -> auto& { return s.position.x; }, false);
+    fn(
+        d.position.y, [](auto& s) -> auto& { return s.position.y; }, false);
+    fn(
+        d.position.z, [](auto& s) -> auto& { return s.position.z; }, false);
+    fn(
+        d.predicted.x, [](auto& s) -> auto& { return s.predicted.x; }, false);
+    fn(
+        d.predicted.y, [](auto& s) -> auto& { return s.predicted.y; }, false);
+    fn(
+        d.predicted.z, [](auto& s) -> auto& { return s.predicted.z; }, false);
+    fn(
+        d.velocity.x, [](auto& s) -> auto& { return s.velocity.x; }, false);
+    fn(
+        d.velocity.y, [](auto& s) -> auto& { return s.velocity.y; }, false);
+    fn(
+        d.velocity.z, [](auto& s) -> auto& { return s.velocity.z; }, false);
+    fn(
+        d.solveAcceleration.x, [](auto& s) -> auto& { return s.solveAcceleration.x; }, true);
+    fn(
+        d.solveAcceleration.y, [](auto& s) -> auto& { return s.solveAcceleration.y; }, true);
+    fn(
+        d.solveAcceleration.z, [](auto& s) -> auto& { return s.solveAcceleration.z; }, true);
+    fn(
+        d.density, [](auto& s) -> auto& { return s.density; }, false);
+    fn(
+        d.id, [](auto& s) -> auto& { return s.id; }, false);
 }
 
 // The solids in device memory (device_solids.hpp): the shapes (uploaded when
@@ -398,9 +412,9 @@ class DeviceBackend final : public Backend {
         ThreadScope threads;
         const std::size_t n = p_.size();
         if (n == 0) return 0.0f;
-        const float maxSquared =
-            thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)),
-                                     SpeedSquared{view(p_.velocity)}, 0.0f, thrust::maximum<float>());
+        const float maxSquared = thrust::transform_reduce(
+            thrust::device, indices(), indices(std::uint32_t(n)), SpeedSquared{view(p_.velocity)},
+            0.0f, thrust::maximum<float>());
         return std::sqrt(maxSquared);
     }
 
@@ -411,9 +425,9 @@ class DeviceBackend final : public Backend {
         const BadIndex test{view(p_.position), view(p_.velocity),
                             detail::squaredSpeedLimit(speedLimit)};
         const std::uint64_t none = ~std::uint64_t(0);
-        const std::uint64_t first = thrust::transform_reduce(
-            thrust::device, indices(), indices(std::uint32_t(n)), test, none,
-            thrust::minimum<std::uint64_t>());
+        const std::uint64_t first =
+            thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)), test,
+                                     none, thrust::minimum<std::uint64_t>());
         if (first == none) return std::nullopt;
         const std::size_t i = first;
         const Vec3 x{p_.position.x[i], p_.position.y[i], p_.position.z[i]};
@@ -430,8 +444,7 @@ class DeviceBackend final : public Backend {
         forEachIndex(blocks, StatisticsBlock{context.constants, context.params.domain, solids,
                                              context.params.particleRadius,
                                              static_cast<std::uint32_t>(n), view(p_.position),
-                                             view(p_.velocity), raw(p_.density),
-                                             raw(partials_)});
+                                             view(p_.velocity), raw(p_.density), raw(partials_)});
         std::vector<detail::StatisticsPartial> partials(blocks);
         thrust::copy(partials_.begin(), partials_.end(), partials.begin());
         detail::StatisticsPartial total;
@@ -464,8 +477,8 @@ class DeviceBackend final : public Backend {
         reorder();
         const SolverConstants& c = context.constants;
         const SearchGrid search = searchGrid();
-        forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(),
-                                            raw(p_.density), raw(lambda_)});
+        forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(), raw(p_.density),
+                                            raw(lambda_)});
         CorrectionKernel k;
         k.c = c;
         k.solids = solids;
@@ -475,13 +488,19 @@ class DeviceBackend final : public Backend {
         k.corrected = corrected_.view();
         k.lambda = {raw(lambda_)};
         forEachIndex(n, k);
-        forEachIndex(n, VelocityKernel{dt, false, p_.position.view(), p_.predicted.view(),
-                                       p_.velocity.view(), {}});
+        forEachIndex(
+            n, VelocityKernel{
+                   dt, false, p_.position.view(), p_.predicted.view(), p_.velocity.view(), {}});
         vorticity_.resize(n);
         post_.resize(n);
-        forEachIndex(n, XsphVorticityKernel{c, context.params.fluid.viscosity, search,
-                                            p_.predicted.view(), p_.velocity.view(),
-                                            post_.view(), vorticity_.view(), {raw(p_.density)}});
+        forEachIndex(n, XsphVorticityKernel{c,
+                                            context.params.fluid.viscosity,
+                                            search,
+                                            p_.predicted.view(),
+                                            p_.velocity.view(),
+                                            post_.view(),
+                                            vorticity_.view(),
+                                            {raw(p_.density)}});
         StageOutputs out;
         const auto vectors = [n](DeviceFloat3& a) {
             std::vector<float> xs(n), ys(n), zs(n);
@@ -644,9 +663,12 @@ class DeviceBackend final : public Backend {
                 array.swap(gatherIndex_);
             }
         });
-        thrust::copy(thrust::device, p_.predicted.x.begin(), p_.predicted.x.end(), search_.x.begin());
-        thrust::copy(thrust::device, p_.predicted.y.begin(), p_.predicted.y.end(), search_.y.begin());
-        thrust::copy(thrust::device, p_.predicted.z.begin(), p_.predicted.z.end(), search_.z.begin());
+        thrust::copy(thrust::device, p_.predicted.x.begin(), p_.predicted.x.end(),
+                     search_.x.begin());
+        thrust::copy(thrust::device, p_.predicted.y.begin(), p_.predicted.y.end(),
+                     search_.y.begin());
+        thrust::copy(thrust::device, p_.predicted.z.begin(), p_.predicted.z.end(),
+                     search_.z.begin());
     }
 
     // Alg. 1 l. 8-19, as the reference backend: a density pass, the
@@ -663,10 +685,10 @@ class DeviceBackend final : public Backend {
                                                 raw(p_.density), raw(lambda_)});
             times_.lambda += millisecondsSince(part);
             if (control.errorControlled()) {
-                const std::int64_t compression = thrust::transform_reduce(
-                    thrust::device, indices(), indices(std::uint32_t(n)),
-                    CompressionOf{c, raw(p_.density)}, std::int64_t{0},
-                    thrust::plus<std::int64_t>());
+                const std::int64_t compression =
+                    thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)),
+                                             CompressionOf{c, raw(p_.density)}, std::int64_t{0},
+                                             thrust::plus<std::int64_t>());
                 if (control.converged(corrections, averageCompression(compression, n))) break;
             }
             part = Clock::now();
@@ -702,21 +724,31 @@ class DeviceBackend final : public Backend {
         const bool withVorticity = fluid.vorticity > 0.0f;
         if (fluid.viscosity > 0.0f || withVorticity) {
             const Float3View omega = withVorticity ? vorticity_.view() : Float3View{};
-            forEachIndex(n, XsphVorticityKernel{c, fluid.viscosity, search, p_.predicted.view(),
-                                                p_.velocity.view(), post_.view(), omega,
+            forEachIndex(n, XsphVorticityKernel{c,
+                                                fluid.viscosity,
+                                                search,
+                                                p_.predicted.view(),
+                                                p_.velocity.view(),
+                                                post_.view(),
+                                                omega,
                                                 {raw(p_.density)}});
             if (withVorticity)
-                forEachIndex(n, ConfinementKernel{c, fluid.vorticity, dt, search,
-                                                  p_.predicted.view(), omega, post_.view(),
+                forEachIndex(n, ConfinementKernel{c,
+                                                  fluid.vorticity,
+                                                  dt,
+                                                  search,
+                                                  p_.predicted.view(),
+                                                  omega,
+                                                  post_.view(),
                                                   {raw(p_.density)}});
             p_.velocity.x.swap(post_.x);
             p_.velocity.y.swap(post_.y);
             p_.velocity.z.swap(post_.z);
         }
         const SolverParams& s = params.solver;
-        forEachIndex(n, RespondCommitKernel{c, s.restitution, s.friction, dt, solids,
-                                            p_.predicted.view(), p_.velocity.view(),
-                                            p_.position.view(), slot(0)});
+        forEachIndex(
+            n, RespondCommitKernel{c, s.restitution, s.friction, dt, solids, p_.predicted.view(),
+                                   p_.velocity.view(), p_.position.view(), slot(0)});
         foldReactions(1);
     }
 

@@ -130,7 +130,8 @@ struct PredictKernel {
         if (solids.present) {
             const Vec3 before = xStar;
             std::size_t touched = boundary::kNoSolid;
-            xStar = boundary::resolveSolidCollision(c, solids.solids, position(i), before, &touched);
+            xStar =
+                boundary::resolveSolidCollision(c, solids.solids, position(i), before, &touched);
             if (reactions.active()) reactions.record(i, touched, xStar, xStar - before);
         }
         predicted.set(i, xStar);
@@ -216,8 +217,8 @@ struct VelocityKernel {
     Float3View position, predicted, velocity, solveAcceleration;
     PBF_HD void operator()(std::uint32_t i) const {
         if (warm)
-            solveAcceleration.set(i, reference::solveAcceleration(position(i), predicted(i),
-                                                                  velocity(i), dt));
+            solveAcceleration.set(
+                i, reference::solveAcceleration(position(i), predicted(i), velocity(i), dt));
         velocity.set(i, reference::velocityFromPositions(position(i), predicted(i), dt));
     }
 };
@@ -233,8 +234,8 @@ struct XsphVorticityKernel {
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
         const StencilNeighbors neighbors = search.of(i);
-        post.set(i, reference::xsphVelocityOf(c, viscosity, neighbors, predicted, velocity,
-                                              density, i));
+        post.set(
+            i, reference::xsphVelocityOf(c, viscosity, neighbors, predicted, velocity, density, i));
         if (vorticity.x)
             vorticity.set(i, reference::vorticityOf(c, neighbors, predicted, velocity, density, i));
     }
@@ -271,8 +272,8 @@ struct RespondCommitKernel {
         if (solids.present) {
             const Vec3 before = v;
             std::size_t touched = boundary::kNoSolid;
-            v = boundary::respondToSolids(solids.solids, c.particleRadius, restitution, friction,
-                                          x, v, &touched);
+            v = boundary::respondToSolids(solids.solids, c.particleRadius, restitution, friction, x,
+                                          v, &touched);
             if (reactions.active()) reactions.record(i, touched, x, (v - before) * dt);
         }
         velocity.set(i, v);

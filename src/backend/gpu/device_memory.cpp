@@ -17,7 +17,7 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // sort's own double buffers (keys and values).
     bytes += 2 * vec3 + 4 * scalar + 2 * scalar;
     if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f) bytes += vec3;  // post v
-    if (params.fluid.vorticity > 0.0f) bytes += vec3;                                    // omega
+    if (params.fluid.vorticity > 0.0f) bytes += vec3;                                   // omega
     // Two slots of reaction records (solid, x, d) for coupled solids.
     if (coupledSolids) bytes += 2 * (scalar + 2 * vec3);
     return bytes;

@@ -61,9 +61,9 @@ struct DeviceSolids {
     std::uint32_t count = 0;
     const DeviceShape* shapes = nullptr;
     const SolidMotion* motions = nullptr;
-    const std::uint8_t* identity = nullptr;  // pose is the identity: query the shape directly
-    const Aabb* bounds = nullptr;            // world-space boxes around the surfaces
-    const std::uint8_t* coupled = nullptr;   // a rigid body's surface
+    const std::uint8_t* identity = nullptr;      // pose is the identity: query the shape directly
+    const Aabb* bounds = nullptr;                // world-space boxes around the surfaces
+    const std::uint8_t* coupled = nullptr;       // a rigid body's surface
     const shape::GridSamples* scales = nullptr;  // values null: no boundary scale
     bool moving = false;
 

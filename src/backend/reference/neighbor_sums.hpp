@@ -74,7 +74,8 @@ PBF_HD Vec3 positionCorrectionOf(const SolverConstants& c, const Solids* solids,
     const Vec3 xi = x(i);
     const float lambdaI = lambdas(i);
     Vec3 dp{};
-    neighbors([&](std::uint32_t j) { dp += positionCorrectionTerm(c, lambdaI, lambdas(j), xi - x(j)); });
+    neighbors(
+        [&](std::uint32_t j) { dp += positionCorrectionTerm(c, lambdaI, lambdas(j), xi - x(j)); });
     dp += boundaryPositionCorrection(c, lambdaI, boundaryTerms(c, solids, xi).gradient);
     return dp;
 }
@@ -104,7 +105,8 @@ PBF_HD Vec3 xsphVelocityOf(const SolverConstants& c, float viscosity, const Neig
     const Vec3 xi = x(i), vi = v(i);
     const float rhoI = rho(i);
     Vec3 dv{};
-    neighbors([&](std::uint32_t j) { dv += xsphTerm(c, viscosity, xi - x(j), vi, v(j), rhoI, rho(j)); });
+    neighbors(
+        [&](std::uint32_t j) { dv += xsphTerm(c, viscosity, xi - x(j), vi, v(j), rhoI, rho(j)); });
     return vi + dv;
 }
 

@@ -30,10 +30,10 @@ inline gpu::StageOutputs runDeviceStages(const SimulationParams& params, const S
 }  // namespace pbf::test
 
 // Skips the test when the device under test cannot run here, saying why.
-#define PBF_REQUIRE_DEVICE()                                                               \
-    do {                                                                                   \
+#define PBF_REQUIRE_DEVICE()                                                                 \
+    do {                                                                                     \
         const ::pbf::DeviceInfo device_ = ::pbf::deviceInfo(::pbf::test::deviceUnderTest()); \
-        if (!device_.usable)                                                               \
-            GTEST_SKIP() << "device " << ::pbf::backendName(device_.kind) << ": "          \
-                         << device_.description;                                           \
+        if (!device_.usable)                                                                 \
+            GTEST_SKIP() << "device " << ::pbf::backendName(device_.kind) << ": "            \
+                         << device_.description;                                             \
     } while (false)

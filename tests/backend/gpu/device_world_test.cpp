@@ -288,8 +288,9 @@ TEST(DeviceWorld, ReductionsEqualTheHostsOnTheSameState) {
     for (int frame = 0; frame < 30; ++frame) stepFrame(world);
     const ParticleStore state = world.particles();
     const StateStatistics device = world.report().state;
-    const StateStatistics host = computeStatistics(state, world.constants(), scene.simulation.domain,
-                                                   &world.solids(), scene.simulation.particleRadius);
+    const StateStatistics host =
+        computeStatistics(state, world.constants(), scene.simulation.domain, &world.solids(),
+                          scene.simulation.particleRadius);
     EXPECT_EQ(device.averageDensityError, host.averageDensityError);
     EXPECT_EQ(device.maxDensityError, host.maxDensityError);
     EXPECT_EQ(device.kineticEnergy, host.kineticEnergy);
@@ -344,8 +345,8 @@ TEST(DeviceWorld, TheMillionParticleDamBreakFitsInThreeHundredBytesPerParticle) 
     const double n = double(world.particleCount());
     const double table = n * double(deviceBytesPerParticle(small.simulation, false)) +
                          double(deviceCellTableBytes(small.simulation));
-    std::printf("  %.0f particles: %.0f bytes per particle used, %.0f in the table\n", n,
-                used / n, table / n);
+    std::printf("  %.0f particles: %.0f bytes per particle used, %.0f in the table\n", n, used / n,
+                table / n);
     EXPECT_LE(used, table * 1.02 + 65536.0);  // + the solids and per-block sums
 }
 

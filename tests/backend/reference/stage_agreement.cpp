@@ -21,7 +21,6 @@ constexpr double kU = kUnitRoundoff;
 
 // ---- Random clouds -----------------------------------------------------------
 
-
 SimulationParams cloudParams() {
     SimulationParams p;
     p.domain = {{0.0f, 0.0f, 0.0f}, {0.5f, 0.5f, 0.5f}};
@@ -346,7 +345,6 @@ void report(const std::string& cloud, const char* implementation, const char* qu
                 cloud.c_str(), quantity, implementation, 100.0 * a.usedOfBound, a.relativeBound());
     EXPECT_EQ(a.failures, 0u) << cloud << ", " << quantity << ": " << a.firstFailure;
 }
-
 
 }  // namespace
 

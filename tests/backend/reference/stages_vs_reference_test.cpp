@@ -22,7 +22,6 @@ namespace {
 
 constexpr float kDt = kStageDt;
 
-
 // Calls a stage over [0, n) in ranges that do not follow the 1024-particle
 // list blocks (the stages split them at block boundaries themselves).
 template <class Fn>
@@ -35,7 +34,7 @@ void inUnevenRanges(std::size_t n, Fn&& fn) {
 }
 
 StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
-                          std::uint32_t compactListSpan) {
+                           std::uint32_t compactListSpan) {
     StageResults out;
     ParticleStore p;
     const std::size_t n = cloud.predicted.size();
@@ -58,8 +57,8 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
                                         withLambda.data(), b, e);
     });
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(), corrected.data(),
-                                 b, e);
+        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(),
+                                 corrected.data(), b, e);
     });
     // The post-process at the uncorrected x* (any positions do).
     Float3Array velocity;
@@ -85,7 +84,6 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
     }
     return out;
 }
-
 
 struct Case {
     const char* name;
