@@ -22,6 +22,8 @@
 
 #include <thrust/binary_search.h>
 #include <thrust/copy.h>
+#include <thrust/device_free.h>
+#include <thrust/device_malloc.h>
 #include <thrust/device_vector.h>
 #include <thrust/execution_policy.h>
 #include <thrust/fill.h>
@@ -104,6 +106,49 @@ struct DeviceFloat3 {
     void clear() { resize(0); }
     Float3View view() { return {raw(x), raw(y), raw(z)}; }
     std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
+};
+
+// Thrust's temporary buffers (the sort's, the reductions') from blocks kept
+// between calls, passed as thrust::device(allocator): no allocation inside
+// the step once the sizes have settled (a cudaMalloc and cudaFree per sort
+// would cost more than the sort), and their size is known (diagnostics).
+class ScratchAllocator {
+  public:
+    using value_type = char;
+    ScratchAllocator() = default;
+    ScratchAllocator(const ScratchAllocator&) = delete;
+    ScratchAllocator& operator=(const ScratchAllocator&) = delete;
+    ~ScratchAllocator() {
+        for (const Block& b : blocks_) thrust::device_free(thrust::device_pointer_cast(b.data));
+    }
+    char* allocate(std::ptrdiff_t bytes) {
+        const std::size_t n = static_cast<std::size_t>(bytes);
+        for (Block& b : blocks_)
+            if (!b.used && b.size >= n) {
+                b.used = true;
+                return b.data;
+            }
+        char* data = thrust::raw_pointer_cast(thrust::device_malloc<char>(n));
+        blocks_.push_back({data, n, true});
+        return data;
+    }
+    void deallocate(char* data, std::size_t) {
+        for (Block& b : blocks_)
+            if (b.data == data) b.used = false;
+    }
+    std::size_t bytes() const {
+        std::size_t total = 0;
+        for (const Block& b : blocks_) total += b.size;
+        return total;
+    }
+
+  private:
+    struct Block {
+        char* data;
+        std::size_t size;
+        bool used;
+    };
+    std::vector<Block> blocks_;
 };
 
 // The particle state in device memory: the persistent fields of ParticleStore.
@@ -413,8 +458,8 @@ class DeviceBackend final : public Backend {
         const std::size_t n = p_.size();
         if (n == 0) return 0.0f;
         const float maxSquared = thrust::transform_reduce(
-            thrust::device, indices(), indices(std::uint32_t(n)), SpeedSquared{view(p_.velocity)},
-            0.0f, thrust::maximum<float>());
+            thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+            SpeedSquared{view(p_.velocity)}, 0.0f, thrust::maximum<float>());
         return std::sqrt(maxSquared);
     }
 
@@ -426,8 +471,8 @@ class DeviceBackend final : public Backend {
                             detail::squaredSpeedLimit(speedLimit)};
         const std::uint64_t none = ~std::uint64_t(0);
         const std::uint64_t first =
-            thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)), test,
-                                     none, thrust::minimum<std::uint64_t>());
+            thrust::transform_reduce(thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+                                     test, none, thrust::minimum<std::uint64_t>());
         if (first == none) return std::nullopt;
         const std::size_t i = first;
         const Vec3 x{p_.position.x[i], p_.position.y[i], p_.position.z[i]};
@@ -488,9 +533,8 @@ class DeviceBackend final : public Backend {
         k.corrected = corrected_.view();
         k.lambda = {raw(lambda_)};
         forEachIndex(n, k);
-        forEachIndex(
-            n, VelocityKernel{
-                   dt, false, p_.position.view(), p_.predicted.view(), p_.velocity.view(), {}});
+        forEachIndex(n, UpdateVelocityKernel{dt, p_.position.view(), p_.predicted.view(),
+                                             p_.velocity.view()});
         vorticity_.resize(n);
         post_.resize(n);
         forEachIndex(n, XsphVorticityKernel{c,
@@ -542,8 +586,8 @@ class DeviceBackend final : public Backend {
         const std::size_t n = p_.size();
         if (!searchValid_ || n == 0) return std::numeric_limits<double>::quiet_NaN();
         const std::uint64_t total = thrust::transform_reduce(
-            thrust::device, indices(), indices(std::uint32_t(n)), NeighborCount{searchGrid()},
-            std::uint64_t{0}, thrust::plus<std::uint64_t>());
+            thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+            NeighborCount{searchGrid()}, std::uint64_t{0}, thrust::plus<std::uint64_t>());
         return double(total) / double(n);
     }
 
@@ -615,21 +659,23 @@ class DeviceBackend final : public Backend {
                 reactionFromSums(&totals[6 * k], context.constants.particleMass, dt);
     }
 
+    // Alg. 1 l. 1-4: predict, warm start, collide with the solids (the
+    // reaction records of this stage are folded before the reorder: the
+    // blocks of the particles' old order, as on the CPU).
     void predict(const SolverContext& context, const SolidsArgument& solids, float dt) {
-        PredictKernel k;
-        k.c = context.constants;
-        k.gravity = context.params.gravity;
-        k.dt = dt;
-        k.warm = context.params.solver.warmStart;
-        k.position = p_.position.view();
-        k.velocity = p_.velocity.view();
-        k.predicted = p_.predicted.view();
-        k.solveAcceleration = p_.solveAcceleration.view();
-        k.density = raw(p_.density);
-        k.solids = solids;
-        k.reactions = slot(0);
-        forEachIndex(p_.size(), k);
-        foldReactions(1);  // before the reorder: the blocks of the particles' old order
+        const std::size_t n = p_.size();
+        const SolverConstants& c = context.constants;
+        forEachIndex(n, PredictKernel{c.collisionBox, context.params.gravity, dt,
+                                      p_.position.view(), p_.velocity.view(), p_.predicted.view()});
+        const float warm = context.params.solver.warmStart;
+        if (warm > 0.0f)
+            forEachIndex(n, WarmStartKernel{c, warm, dt, p_.predicted.view(),
+                                            p_.solveAcceleration.view(), raw(p_.density)});
+        if (solids.present) {
+            forEachIndex(n, CollideSolidsKernel{c, solids.solids, p_.position.view(),
+                                                p_.predicted.view(), slot(0)});
+            foldReactions(1);
+        }
     }
 
     // Cell keys of x*, the stable sort by cell (ties keep their order, so the
@@ -638,8 +684,9 @@ class DeviceBackend final : public Backend {
     void sortByCell() {
         const std::size_t n = p_.size();
         forEachIndex(n, CellKeyKernel{grid_, p_.predicted.view(), raw(keys_), raw(order_)});
-        thrust::stable_sort_by_key(thrust::device, keys_.begin(), keys_.end(), order_.begin());
-        thrust::lower_bound(thrust::device, keys_.begin(), keys_.end(), indices(),
+        thrust::stable_sort_by_key(thrust::device(scratch_), keys_.begin(), keys_.end(),
+                                   order_.begin());
+        thrust::lower_bound(thrust::device(scratch_), keys_.begin(), keys_.end(), indices(),
                             indices(static_cast<std::uint32_t>(cellStart_.size())),
                             cellStart_.begin());
     }
@@ -685,10 +732,10 @@ class DeviceBackend final : public Backend {
                                                 raw(p_.density), raw(lambda_)});
             times_.lambda += millisecondsSince(part);
             if (control.errorControlled()) {
-                const std::int64_t compression =
-                    thrust::transform_reduce(thrust::device, indices(), indices(std::uint32_t(n)),
-                                             CompressionOf{c, raw(p_.density)}, std::int64_t{0},
-                                             thrust::plus<std::int64_t>());
+                const std::int64_t compression = thrust::transform_reduce(
+                    thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+                    CompressionOf{c, raw(p_.density)}, std::int64_t{0},
+                    thrust::plus<std::int64_t>());
                 if (control.converged(corrections, averageCompression(compression, n))) break;
             }
             part = Clock::now();
@@ -717,9 +764,12 @@ class DeviceBackend final : public Backend {
         const SimulationParams& params = context.params;
         const std::size_t n = p_.size();
         const SearchGrid search = searchGrid();
-        forEachIndex(n, VelocityKernel{dt, params.solver.warmStart > 0.0f, p_.position.view(),
-                                       p_.predicted.view(), p_.velocity.view(),
-                                       p_.solveAcceleration.view()});
+        if (params.solver.warmStart > 0.0f)
+            forEachIndex(
+                n, RecordSolveAccelerationKernel{dt, p_.position.view(), p_.predicted.view(),
+                                                 p_.velocity.view(), p_.solveAcceleration.view()});
+        forEachIndex(n, UpdateVelocityKernel{dt, p_.position.view(), p_.predicted.view(),
+                                             p_.velocity.view()});
         const FluidParams& fluid = params.fluid;
         const bool withVorticity = fluid.vorticity > 0.0f;
         if (fluid.viscosity > 0.0f || withVorticity) {
@@ -761,8 +811,7 @@ class DeviceBackend final : public Backend {
         for (const ReactionRecords& r : records_)
             bytes += bytesOf(r.solid) + r.at.bytes() + r.move.bytes();
         bytes += bytesOf(reactionSums_) + bytesOf(reactionTotals_) + solids_.bytes();
-        // The sort's own double buffers (keys and values), allocated inside it.
-        bytes += 2 * sizeof(std::uint32_t) * keys_.size();
+        bytes += scratch_.bytes();  // the sort's and the reductions' buffers
         return bytes;
     }
 
@@ -776,7 +825,8 @@ class DeviceBackend final : public Backend {
     float sampleSpacing_;
     float sampleMargin_;
     DeviceParticles p_;
-    mutable DeviceSolidStore solids_;  // refreshed by every call given solids
+    mutable DeviceSolidStore solids_;   // refreshed by every call given solids
+    mutable ScratchAllocator scratch_;  // Thrust's temporary buffers
     // The step's scratch.
     DeviceFloat3 search_;     // x* at the neighbour search
     DeviceFloat3 corrected_;  // the correction pass's output (Jacobi)

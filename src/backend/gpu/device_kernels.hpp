@@ -107,34 +107,48 @@ struct ReactionSlot {
     }
 };
 
-// Alg. 1 l. 1-4: v += dt g; x* = x + dt v into the collision box; the warm
-// start (reference::warmStart); the swept collision with the solids from x.
+// Alg. 1 l. 1-3: v += dt g; x* = x + dt v, into the collision box.
 struct PredictKernel {
-    SolverConstants c;
+    Aabb box;
     Vec3 gravity;
     float dt = 0.0f;
-    float warm = 0.0f;  // solver.warm_start; 0: off
-    Float3View position, velocity, predicted, solveAcceleration;
-    const float* density = nullptr;  // the last substep's: the warm start's test
-    SolidsArgument solids;
-    ReactionSlot reactions;
-
+    Float3View position, velocity, predicted;
     PBF_HD void operator()(std::uint32_t i) const {
         const Vec3 v = velocity(i) + dt * gravity;
         velocity.set(i, v);
-        Vec3 xStar = boundary::clampToBox(c.collisionBox, position(i) + dt * v);
-        if (warm > 0.0f)
-            xStar = boundary::clampToBox(
-                c.collisionBox,
-                reference::warmStart(c, xStar, solveAcceleration(i), density[i], warm, dt));
-        if (solids.present) {
-            const Vec3 before = xStar;
-            std::size_t touched = boundary::kNoSolid;
-            xStar =
-                boundary::resolveSolidCollision(c, solids.solids, position(i), before, &touched);
-            if (reactions.active()) reactions.record(i, touched, xStar, xStar - before);
-        }
-        predicted.set(i, xStar);
+        predicted.set(i, boundary::clampToBox(box, position(i) + dt * v));
+    }
+};
+
+// The warm start (reference::warmStart): x* += w dt^2 a for particles that
+// ended their last substep compressed, kept in the collision box.
+struct WarmStartKernel {
+    SolverConstants c;
+    float warm = 0.0f;  // solver.warm_start
+    float dt = 0.0f;
+    Float3View predicted, solveAcceleration;
+    const float* density = nullptr;  // the last substep's: the warm start's test
+    PBF_HD void operator()(std::uint32_t i) const {
+        predicted.set(
+            i, boundary::clampToBox(c.collisionBox,
+                                    reference::warmStart(c, predicted(i), solveAcceleration(i),
+                                                         density[i], warm, dt)));
+    }
+};
+
+// Alg. 1 l. 4: the swept collision of x -> x* with the solids; records a
+// coupled solid's push.
+struct CollideSolidsKernel {
+    SolverConstants c;
+    DeviceSolids solids;
+    Float3View position, predicted;
+    ReactionSlot reactions;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 before = predicted(i);
+        std::size_t touched = boundary::kNoSolid;
+        const Vec3 x = boundary::resolveSolidCollision(c, solids, position(i), before, &touched);
+        if (reactions.active()) reactions.record(i, touched, x, x - before);
+        predicted.set(i, x);
     }
 };
 
@@ -208,17 +222,22 @@ struct CorrectionKernel {
     }
 };
 
-// After the iterations: the warm start's record of the step's pressure
-// acceleration (reference::solveAcceleration, from v = the predicted
-// velocity), then Alg. 1 l. 21: v = (x* - x) / dt.
-struct VelocityKernel {
+// After the iterations, for the warm start: the step's pressure
+// acceleration (reference::solveAcceleration, v still the predicted velocity).
+struct RecordSolveAccelerationKernel {
     float dt = 0.0f;
-    bool warm = false;
     Float3View position, predicted, velocity, solveAcceleration;
     PBF_HD void operator()(std::uint32_t i) const {
-        if (warm)
-            solveAcceleration.set(
-                i, reference::solveAcceleration(position(i), predicted(i), velocity(i), dt));
+        solveAcceleration.set(
+            i, reference::solveAcceleration(position(i), predicted(i), velocity(i), dt));
+    }
+};
+
+// Alg. 1 l. 21: v = (x* - x) / dt.
+struct UpdateVelocityKernel {
+    float dt = 0.0f;
+    Float3View position, predicted, velocity;
+    PBF_HD void operator()(std::uint32_t i) const {
         velocity.set(i, reference::velocityFromPositions(position(i), predicted(i), dt));
     }
 };
