@@ -30,7 +30,8 @@ struct BenchArguments {
     std::vector<std::size_t> sizes{16000, 30000, 128000, 1000000};
     int steps = 20;
     int warmup = 5;
-    int iterations = 4;
+    int iterations = 0;                  // 0: the scene's solver.iterations
+    std::vector<std::string> overrides;  // --set FIELD=VALUE
     int threads = 0;
     std::string device = "cpu";
     int bodies = 0;  // rigid bodies dropped into the dam break's column
@@ -70,7 +71,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     const double baseCount = double(countParticles(base));
     scene.simulation.particleRadius =
         static_cast<float>(base.simulation.particleRadius * std::cbrt(baseCount / double(target)));
-    scene.simulation.solver.iterations = args.iterations;
+    if (args.iterations > 0) scene.simulation.solver.iterations = args.iterations;
     if (const std::string problem = validate(scene.simulation); !problem.empty())
         throw SceneError(fmt::format("size {}: {}", target, problem));
     // One fixed substep per frame, CFL 0.4 at the dam break's front speed
@@ -135,14 +136,23 @@ std::vector<std::size_t> parseSizes(const std::string& text) {
 
 int runBench(const BenchArguments& args) {
     if (args.threads > 0) setThreadCount(args.threads);
-    const Scene base = loadScene(args.scene);
+    std::vector<SceneOverride> overrides;
+    for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
+    const Scene base = loadScene(args.scene, overrides);
+    const SolverParams& solver = base.simulation.solver;
+    const std::string iterations =
+        solver.maxDensityError > 0.0f
+            ? fmt::format("iterations to an average compression of {} ({} to {})",
+                          solver.maxDensityError, solver.minIterations, solver.maxIterations)
+            : fmt::format("{} iterations",
+                          args.iterations > 0 ? args.iterations : solver.iterations);
     const bool writer = distributed::rank() == 0;  // rank 0 prints
     const int ranks = distributed::size();
     if (writer)
         fmt::print(
-            "pbf bench: scene {}, {} backend, {} iterations, {} timed steps after {} warm-up, {} "
+            "pbf bench: scene {}, {} backend, {}, {} timed steps after {} warm-up, {} "
             "threads, {} rigid bodies, {} MPI ranks\n",
-            args.scene, args.device, args.iterations, args.steps, args.warmup, threadCount(),
+            args.scene, args.device, iterations, args.steps, args.warmup, threadCount(),
             args.bodies, ranks);
     if (writer)
         fmt::print("pbf bench: device {}: {}\n", args.device,
@@ -167,13 +177,14 @@ int runBench(const BenchArguments& args) {
             t.deltaP, t.postProcess, t.bodies, rate, r.neighborsPerParticle, r.bytesPerParticle,
             r.memoryMiB, t.exchange);
         machineLines.push_back(fmt::format(
-            "pbf-bench: particles={} steps={} iterations={} threads={} device={} step_ms={:.3f} "
+            "pbf-bench: particles={} steps={} iterations={:.2f} threads={} device={} "
+            "step_ms={:.3f} "
             "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
             "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
             "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} bodies={} bodies_ms={:.3f} "
             "bytes_per_particle={:.0f} memory_mib={:.1f} compact_lists={:.2f} ranks={} "
             "exchange_ms={:.3f}",
-            r.particles, args.steps, args.iterations, threadCount(), args.device, r.stepMs, rate,
+            r.particles, args.steps, t.iterations, threadCount(), args.device, r.stepMs, rate,
             t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder,
             t.neighborLists, t.lambda, t.deltaP, args.bodies, t.bodies, r.bytesPerParticle,
             r.memoryMiB, r.compactListShare, ranks, t.exchange));
@@ -200,9 +211,12 @@ std::function<int()> addBenchCommand(CLI::App& app) {
     bench->add_option("--warmup", args->warmup, "Untimed steps first")
         ->check(CLI::Range(0, 100000))
         ->capture_default_str();
-    bench->add_option("-i,--iterations", args->iterations, "Density iterations per step")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
+    bench
+        ->add_option("-i,--iterations", args->iterations,
+                     "Density iterations per step (default: the scene's solver.iterations)")
+        ->check(CLI::Range(1, 100));
+    bench->add_option("-s,--set", args->overrides,
+                      "Override a scene field, e.g. --set fluid.viscosity=0.02 (as pbf run)");
     bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
     addDeviceOption(bench, args->device);

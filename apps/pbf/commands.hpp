@@ -18,5 +18,6 @@ std::function<int()> addRenderCommand(CLI::App& app);
 std::function<int()> addMeshCommand(CLI::App& app);
 std::function<int()> addPlotCommand(CLI::App& app);
 std::function<int()> addValidateCommand(CLI::App& app);
+std::function<int()> addParamsCommand(CLI::App& app);
 
 }  // namespace pbf::cli

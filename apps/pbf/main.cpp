@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     const auto foam = pbf::cli::addFoamCommand(app);
     const auto plot = pbf::cli::addPlotCommand(app);
     const auto validate = pbf::cli::addValidateCommand(app);
+    const auto params = pbf::cli::addParamsCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -76,5 +77,6 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("foam")) return runCommand(foam);
     if (app.got_subcommand("plot")) return runCommand(plot);
     if (app.got_subcommand("validate")) return runCommand(validate);
+    if (app.got_subcommand("params")) return runCommand(params);
     return 2;
 }

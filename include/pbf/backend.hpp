@@ -32,29 +32,31 @@
 
 namespace pbf {
 
-// Wall-clock milliseconds spent per stage, and the work done.
+// Wall-clock milliseconds spent per part of a step, and the work done: one
+// list (X(member, description)), from which the struct and its arithmetic
+// are made. The solver's stages (backend/step_plan.hpp) each add their time
+// to one phase (the first four) and, for the costly ones, to a part.
+#define PBF_STAGE_TIMES(X)                                                                     \
+    X(predict, "prediction, warm start and the swept collision with solids")                  \
+    X(neighborSearch, "sort, reorder, neighbour lists")                                        \
+    X(solve, "all density iterations")                                                         \
+    X(postProcess, "velocity update, vorticity, XSPH, wall response")                          \
+    X(total, "the whole step")                                                                 \
+    X(gridBuild, "part: cell of each particle + counting sort")                                \
+    X(reorder, "part: permuting every particle array")                                         \
+    X(neighborLists, "part: distance tests, neighbour lists")                                  \
+    X(lambda, "part: density + lambda passes, all iterations")                                 \
+    X(deltaP, "part: correction passes with their box / solid projection, all iterations")     \
+    X(bodies, "rigid bodies: forces in, one Bullet step, poses out (the World adds it)")       \
+    X(exchange,                                                                                \
+      "distributed runs (backend/mpi): migration, ghost set-up and halo exchanges, waiting "   \
+      "for other ranks included (also in the phases above; 0 in one process)")                 \
+    X(iterations, "density iterations the solver ran (counted in its loop)")
+
 struct StageTimes {
-    double predict = 0.0;         // includes the swept collision with solids
-    double neighborSearch = 0.0;  // sort, reorder, neighbour lists
-    double solve = 0.0;           // all density iterations
-    double postProcess = 0.0;     // velocity update, vorticity, XSPH, wall response
-    double total = 0.0;
-    // Parts of the above, for profiling (`pbf bench`).
-    double gridBuild = 0.0;      // cell of each particle + counting sort
-    double reorder = 0.0;        // permuting every particle array
-    double neighborLists = 0.0;  // distance tests, neighbour lists
-    double lambda = 0.0;         // density + lambda passes, all iterations
-    double deltaP = 0.0;  // correction passes with their box / solid projection, all iterations
-    // Rigid bodies: forces in, one Bullet step, poses out (the World adds
-    // it; the fluid's share of the coupling is in the stages above).
-    double bodies = 0.0;
-    // Distributed runs (backend/mpi): migration, ghost set-up and the halo
-    // exchanges of the step, waiting for other ranks included (part of the
-    // stages above; 0 in one process).
-    double exchange = 0.0;
-    // Density iterations the solver ran (counted in its loop, not copied
-    // from the settings).
-    double iterations = 0.0;
+#define PBF_STAGE_TIME_MEMBER(member, description) double member = 0.0;
+    PBF_STAGE_TIMES(PBF_STAGE_TIME_MEMBER)
+#undef PBF_STAGE_TIME_MEMBER
 
     StageTimes& operator+=(const StageTimes& o);
     StageTimes operator*(double factor) const;

@@ -44,6 +44,7 @@ from ._pbf import (
     __version__,
     hardware_threads,
     load_scene,
+    parameters,
     run,
     set_threads,
     threads,
@@ -55,7 +56,7 @@ __all__ = [
     "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "OutputParams",
     "RigidBody", "RigidBodyDescription", "RigidBodyList", "RunSummary", "Scene", "SceneError", "Settings", "SimulationParams", "SolidDescription",
     "SolidList", "SolverParams", "StageTimes", "StateError", "StateStatistics", "Transform",
-    "World", "WorldDef", "hardware_threads", "load_scene", "read_ply", "run", "set_threads",
+    "World", "WorldDef", "hardware_threads", "load_scene", "parameters", "read_ply", "run", "set_threads",
     "threads",
 ]
 

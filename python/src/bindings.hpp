@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pbf/param_table.hpp"
 #include "pbf/params.hpp"
 #include "pbf/vec3.hpp"
 #include "pbf/world_def.hpp"
@@ -92,10 +93,12 @@ void bindSettings(py::module_& m);    // settings.cpp
 void bindWorld(py::module_& m);       // world.cpp
 void bindRun(py::module_& m);         // run.cpp
 
-// "solver.time_step" as in scene files: "adaptive" or "fixed". The parser
-// throws SceneError naming `field`.
-const char* timeStepName(TimeStepMode mode);
-TimeStepMode parseTimeStep(const std::string& name, const std::string& field);
+// A parameter's value as Python shows it (floats through shortestDouble,
+// "solver.time_step" as its name), and a Python value as the parameter's
+// type (TypeError naming the parameter's path when it does not convert;
+// SceneError for an unknown time step name).
+py::object paramToPython(const ParamValue& value);
+ParamValue paramFromPython(const ParamInfo& param, const py::handle& value);
 
 // Getter and setter of a float field, shown through shortestDouble:
 // .def_property("cfl", floatGetter(&SolverParams::cfl), floatSetter(&SolverParams::cfl)).
@@ -110,5 +113,6 @@ auto floatSetter(float C::*member) {
 
 // "Type(a=1, b=(0.0, 1.0, 0.0))" from the Python attributes `fields` of `self`.
 std::string reprOf(py::handle self, const char* type, std::initializer_list<const char*> fields);
+std::string reprOf(py::handle self, const char* type, const std::vector<std::string>& fields);
 
 }  // namespace pbf::python

@@ -1,7 +1,8 @@
 // Simulation parameters (include/pbf/params.hpp) and the box type: the
-// plain structs a definition is made of. Field names are those of scene
-// files (docs/scenes.md), so `params.solver.iterations` in Python is
-// "solver.iterations" in a scene and in error messages.
+// plain structs a definition is made of. Their attributes are the rows of
+// the parameter table (include/pbf/param_table.hpp), named as in scene
+// files, so `params.solver.iterations` in Python is "solver.iterations" in
+// a scene and in error messages.
 #include <pybind11/operators.h>
 
 #include "bindings.hpp"
@@ -41,89 +42,73 @@ void bindAabb(py::module_& m) {
     py::implicitly_convertible<py::array, Aabb>();
 }
 
-void bindFluid(py::module_& m) {
-    py::class_<FluidParams>(m, "FluidParams", "Fluid material (docs/scenes.md, \"fluid\").")
-        .def(py::init<>())
-        .def_property("rest_density", floatGetter(&FluidParams::restDensity),
-                      floatSetter(&FluidParams::restDensity), "kg/m^3, (0, 1e5]")
-        .def_property("viscosity", floatGetter(&FluidParams::viscosity),
-                      floatSetter(&FluidParams::viscosity), "XSPH c, [0, 1]")
-        .def_property("vorticity", floatGetter(&FluidParams::vorticity),
-                      floatSetter(&FluidParams::vorticity), "confinement epsilon, [0, 10]")
-        .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "FluidParams", {"rest_density", "viscosity", "vorticity"});
-        });
+// What a parameter of each type must be, for conversion messages.
+const char* expected(ParamType type) {
+    switch (type) {
+        case ParamType::Float:
+            return "a number";
+        case ParamType::Int:
+            return "an integer";
+        case ParamType::Vec3:
+            return "three numbers";
+        case ParamType::Box:
+            return "a box (min, max)";
+        case ParamType::Choice:
+            return "a string";
+    }
+    return "a value";
 }
 
-void bindSolver(py::module_& m) {
-    py::class_<ArtificialPressureParams>(
-        m, "ArtificialPressureParams",
-        "s_corr = -k (W(r) / W(dq h))^n (paper eq. 13-14), k in units of the constraint's scale.")
-        .def(py::init<>())
-        .def_property("k", floatGetter(&ArtificialPressureParams::k),
-                      floatSetter(&ArtificialPressureParams::k), "[0, 1]")
-        .def_readwrite("n", &ArtificialPressureParams::n, "[1, 8]")
-        .def_property("dq", floatGetter(&ArtificialPressureParams::dq),
-                      floatSetter(&ArtificialPressureParams::dq), "fraction of h, (0, 1)")
-        .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "ArtificialPressureParams", {"k", "n", "dq"});
-        });
+// A row's docstring: its description, unit and range.
+std::string docOf(const ParamInfo& p) {
+    std::string doc(p.description);
+    if (!p.unit.empty() && p.unit != "1") doc += "; " + std::string(p.unit);
+    doc += "; " + rangeText(p);
+    if (!p.live) doc += " (fixed while a world runs)";
+    return doc;
+}
 
-    py::class_<SolverParams>(m, "SolverParams", "Solver settings (docs/scenes.md, \"solver\").")
-        .def(py::init<>())
-        .def_readwrite("iterations", &SolverParams::iterations, "density iterations, [1, 100]")
-        .def_property("max_density_error", floatGetter(&SolverParams::maxDensityError),
-                      floatSetter(&SolverParams::maxDensityError),
-                      "iterate to this average compression (relative), [0, 0.1]; 0: fixed "
-                      "iterations")
-        .def_readwrite("min_iterations", &SolverParams::minIterations,
-                       "with max_density_error, [0, max_iterations]")
-        .def_readwrite("max_iterations", &SolverParams::maxIterations,
-                       "with max_density_error, [1, 1000]")
-        .def_property("over_relaxation", floatGetter(&SolverParams::overRelaxation),
-                      floatSetter(&SolverParams::overRelaxation), "Jacobi omega, [0.5, 1.5]")
-        .def_property("warm_start", floatGetter(&SolverParams::warmStart),
-                      floatSetter(&SolverParams::warmStart),
-                      "fraction of the last pressure acceleration, [0, 1]")
-        .def_property("relaxation", floatGetter(&SolverParams::relaxation),
-                      floatSetter(&SolverParams::relaxation), "CFM epsilon, [1e-6, 10]")
-        .def_readwrite("artificial_pressure", &SolverParams::artificialPressure)
-        .def_property("kernel_radius_factor", floatGetter(&SolverParams::kernelRadiusFactor),
-                      floatSetter(&SolverParams::kernelRadiusFactor), "h / particle radius, [3, 6]")
-        .def_property(
-            "time_step", [](const SolverParams& s) { return timeStepName(s.timeStepMode); },
-            [](SolverParams& s, const std::string& name) {
-                s.timeStepMode = parseTimeStep(name, "solver.time_step");
+// The parameters of one group as properties of its class, and the repr
+// that lists them (after `extra`, the group's nested structs).
+template <class Group>
+void bindGroupParams(py::class_<Group>& cls, ParamGroup group, const char* name,
+                     std::vector<std::string> fields) {
+    for (const ParamInfo& p : paramTable()) {
+        if (p.group != group) continue;
+        const ParamInfo* param = &p;
+        cls.def_property(
+            std::string(p.name()).c_str(),
+            [param](const Group& g) { return paramToPython(param->getIn(&g)); },
+            [param](Group& g, const py::handle& value) {
+                param->setIn(&g, paramFromPython(*param, value));
             },
-            "\"adaptive\" (CFL-limited substeps) or \"fixed\" (`substeps` per frame)")
-        .def_property("cfl", floatGetter(&SolverParams::cfl), floatSetter(&SolverParams::cfl),
-                      "(0, 1]")
-        .def_property("max_time_step", floatGetter(&SolverParams::maxTimeStep),
-                      floatSetter(&SolverParams::maxTimeStep), "seconds, (0, 1]")
-        .def_readwrite("max_substeps", &SolverParams::maxSubsteps, "per frame, [1, 10000]")
-        .def_readwrite("substeps", &SolverParams::fixedSubsteps,
-                       "fixed mode: substeps per frame, [1, 10000]")
-        .def_property("restitution", floatGetter(&SolverParams::restitution),
-                      floatSetter(&SolverParams::restitution), "[0, 1]")
-        .def_property("friction", floatGetter(&SolverParams::friction),
-                      floatSetter(&SolverParams::friction), "[0, 1]")
-        .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "SolverParams",
-                          {"iterations", "relaxation", "artificial_pressure",
-                           "kernel_radius_factor", "time_step", "cfl", "max_time_step",
-                           "max_substeps", "substeps", "restitution", "friction"});
-        });
+            docOf(p).c_str());
+        fields.emplace_back(p.name());
+    }
+    cls.def("__repr__",
+            [name, fields](const py::object& self) { return reprOf(self, name, fields); });
 }
 
-void bindSimulation(py::module_& m) {
-    py::class_<SimulationParams>(m, "SimulationParams",
-                                 "Domain, gravity, particle radius, fluid and solver parameters.")
-        .def(py::init<>())
-        .def_readwrite("domain", &SimulationParams::domain, "metres; particles never leave it")
-        .def_readwrite("gravity", &SimulationParams::gravity, "m/s^2")
-        .def_property("particle_radius", floatGetter(&SimulationParams::particleRadius),
-                      floatSetter(&SimulationParams::particleRadius),
-                      "metres; the initial lattice spacing is 2 r")
+void bindParamClasses(py::module_& m) {
+    py::class_<FluidParams> fluid(m, "FluidParams", "Fluid material (docs/scenes.md, \"fluid\").");
+    fluid.def(py::init<>());
+    bindGroupParams(fluid, ParamGroup::Fluid, "FluidParams", {});
+
+    py::class_<ArtificialPressureParams> pressure(
+        m, "ArtificialPressureParams",
+        "s_corr = -k (W(r) / W(dq h))^n (paper eq. 13-14), k in units of the constraint's scale.");
+    pressure.def(py::init<>());
+    bindGroupParams(pressure, ParamGroup::ArtificialPressure, "ArtificialPressureParams", {});
+
+    py::class_<SolverParams> solver(m, "SolverParams",
+                                    "Solver settings (docs/scenes.md, \"solver\").");
+    solver.def(py::init<>())
+        .def_readwrite("artificial_pressure", &SolverParams::artificialPressure);
+    bindGroupParams(solver, ParamGroup::Solver, "SolverParams", {"artificial_pressure"});
+
+    py::class_<SimulationParams> simulation(
+        m, "SimulationParams", "Domain, gravity, particle radius, fluid and solver parameters.");
+    simulation.def(py::init<>())
         .def_readwrite("fluid", &SimulationParams::fluid)
         .def_readwrite("solver", &SimulationParams::solver)
         .def_property_readonly(
@@ -134,41 +119,113 @@ void bindSimulation(py::module_& m) {
             [](const SimulationParams& p) { return shortestDouble(p.kernelRadius()); })
         .def(
             "validate", [](const SimulationParams& p) { return validate(p); },
-            "\"\" when valid, else \"field: problem\" for the first invalid field.")
-        .def("__repr__", [](const py::object& self) {
-            return reprOf(self, "SimulationParams",
-                          {"domain", "gravity", "particle_radius", "fluid", "solver"});
-        });
+            "\"\" when valid, else \"field: problem\" for the first invalid field.");
+    bindGroupParams(simulation, ParamGroup::Simulation, "SimulationParams", {"fluid", "solver"});
 }
 
 }  // namespace
 
-const char* timeStepName(TimeStepMode mode) {
-    return mode == TimeStepMode::Fixed ? "fixed" : "adaptive";
+py::object paramToPython(const ParamValue& value) {
+    struct ToPython {
+        py::object operator()(float v) const { return py::float_(shortestDouble(v)); }
+        py::object operator()(int v) const { return py::int_(v); }
+        py::object operator()(const Vec3& v) const { return py::cast(v); }
+        py::object operator()(const Aabb& v) const { return py::cast(v); }
+        py::object operator()(TimeStepMode v) const {
+            return py::str(std::string(timeStepName(v)));
+        }
+    };
+    return std::visit(ToPython{}, value);
 }
 
-TimeStepMode parseTimeStep(const std::string& name, const std::string& field) {
-    if (name == "adaptive") return TimeStepMode::Adaptive;
-    if (name == "fixed") return TimeStepMode::Fixed;
-    throw SceneError(field + ": expected \"adaptive\" or \"fixed\", got \"" + name + "\"");
+ParamValue paramFromPython(const ParamInfo& param, const py::handle& value) {
+    try {
+        switch (param.type) {
+            case ParamType::Float:
+                return value.cast<float>();
+            case ParamType::Int:
+                return value.cast<int>();
+            case ParamType::Vec3:
+                return value.cast<Vec3>();
+            case ParamType::Box:
+                return value.cast<Aabb>();
+            case ParamType::Choice:
+                break;
+        }
+        const std::string name = value.cast<std::string>();
+        try {
+            return parseTimeStepName(name);
+        } catch (const std::invalid_argument& e) {
+            throw SceneError(std::string(param.path) + ": " + e.what());
+        }
+    } catch (const py::cast_error&) {
+        throw py::type_error(std::string(param.path) + ": expected " + expected(param.type) +
+                             ", got " + py::repr(value).cast<std::string>());
+    }
 }
 
-std::string reprOf(py::handle self, const char* type, std::initializer_list<const char*> fields) {
+std::string reprOf(py::handle self, const char* type, const std::vector<std::string>& fields) {
     std::string text = std::string(type) + "(";
     const char* separator = "";
-    for (const char* field : fields) {
-        text +=
-            separator + std::string(field) + "=" + py::repr(self.attr(field)).cast<std::string>();
+    for (const std::string& field : fields) {
+        text += separator + field + "=" + py::repr(self.attr(field.c_str())).cast<std::string>();
         separator = ", ";
     }
     return text + ")";
 }
 
+std::string reprOf(py::handle self, const char* type, std::initializer_list<const char*> fields) {
+    return reprOf(self, type, std::vector<std::string>(fields.begin(), fields.end()));
+}
+
+const char* typeName(ParamType type) {
+    switch (type) {
+        case ParamType::Float:
+            return "float";
+        case ParamType::Int:
+            return "int";
+        case ParamType::Vec3:
+            return "vec3";
+        case ParamType::Box:
+            return "box";
+        case ParamType::Choice:
+            return "choice";
+    }
+    return "";
+}
+
 void bindParams(py::module_& m) {
     bindAabb(m);
-    bindFluid(m);
-    bindSolver(m);
-    bindSimulation(m);
+    bindParamClasses(m);
+    m.def(
+        "parameters",
+        [] {
+            py::list rows;
+            for (const ParamInfo& p : paramTable()) {
+                py::dict row;
+                row["path"] = std::string(p.path);
+                row["attribute"] = std::string(p.attribute);
+                row["type"] = typeName(p.type);
+                row["unit"] = std::string(p.unit);
+                row["default"] = paramToPython(p.get(SimulationParams{}));
+                row["range"] = rangeText(p);
+                row["min"] = p.range.lo;
+                row["max"] = p.range.hiParam.empty()
+                                 ? py::object(py::float_(p.range.hi))
+                                 : py::object(py::str(std::string(p.range.hiParam)));
+                row["min_open"] = p.range.loOpen;
+                row["max_open"] = p.range.hiOpen;
+                row["live"] = p.live;
+                row["required"] = p.required;
+                row["description"] = std::string(p.description);
+                rows.append(row);
+            }
+            return rows;
+        },
+        "Every simulation parameter (the parameter table, docs/scenes.md): a list of dicts "
+        "with path, attribute, type, unit, default, range (text), min, max (a number, or the "
+        "path of the parameter that bounds it), min_open, max_open, live, required, "
+        "description.");
 }
 
 }  // namespace pbf::python

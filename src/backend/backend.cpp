@@ -99,37 +99,17 @@ std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& p
 }
 
 StageTimes& StageTimes::operator+=(const StageTimes& o) {
-    predict += o.predict;
-    neighborSearch += o.neighborSearch;
-    solve += o.solve;
-    postProcess += o.postProcess;
-    total += o.total;
-    gridBuild += o.gridBuild;
-    reorder += o.reorder;
-    neighborLists += o.neighborLists;
-    lambda += o.lambda;
-    deltaP += o.deltaP;
-    bodies += o.bodies;
-    exchange += o.exchange;
-    iterations += o.iterations;
+#define PBF_ADD_TIME(member, description) member += o.member;
+    PBF_STAGE_TIMES(PBF_ADD_TIME)
+#undef PBF_ADD_TIME
     return *this;
 }
 
 StageTimes StageTimes::operator*(double factor) const {
     StageTimes r;
-    r.predict = predict * factor;
-    r.neighborSearch = neighborSearch * factor;
-    r.solve = solve * factor;
-    r.postProcess = postProcess * factor;
-    r.total = total * factor;
-    r.gridBuild = gridBuild * factor;
-    r.reorder = reorder * factor;
-    r.neighborLists = neighborLists * factor;
-    r.lambda = lambda * factor;
-    r.deltaP = deltaP * factor;
-    r.bodies = bodies * factor;
-    r.exchange = exchange * factor;
-    r.iterations = iterations * factor;
+#define PBF_SCALE_TIME(member, description) r.member = member * factor;
+    PBF_STAGE_TIMES(PBF_SCALE_TIME)
+#undef PBF_SCALE_TIME
     return r;
 }
 

@@ -10,9 +10,11 @@
 #include <type_traits>
 
 #include "core/hash.hpp"
+#include "io/binary_stream.hpp"
+#include "io/checkpoint_particles.hpp"
 #include "pbf/io.hpp"
-#include "pbf/world.hpp"
 #include "pbf/version.hpp"
+#include "pbf/world.hpp"
 
 namespace pbf {
 namespace {
@@ -22,99 +24,23 @@ static_assert(std::endian::native == std::endian::little,
 
 constexpr char kMagic[8] = {'P', 'B', 'F', 'C', 'K', 'P', 'T', '\n'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
-constexpr std::uint64_t kMaxStringBytes = std::uint64_t{1} << 40;
 
-[[noreturn]] void fail(const std::string& name, const std::string& message) {
-    throw IoError(name + ": " + message);
-}
-
-class Writer {
-  public:
-    template <class T>
-    void value(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        bytes_.append(reinterpret_cast<const char*>(&v), sizeof(T));
-    }
-    template <class T>
-    void array(const std::vector<T>& values) {
-        value<std::uint64_t>(values.size());
-        if (values.empty()) return;  // data() may be null
-        bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-    }
-    void string(const std::string& s) {
-        value<std::uint64_t>(s.size());
-        bytes_.append(s);
-    }
-    const std::string& bytes() const { return bytes_; }
-
-  private:
-    std::string bytes_;
-};
-
-// Bounds-checked reads from the payload: a corrupt length can never make it
-// read past the end or allocate more than the file holds.
-class Reader {
-  public:
-    Reader(const std::string& bytes, const std::string& name) : bytes_(bytes), name_(name) {}
-
-    template <class T>
-    T value(const char* what) {
-        T v;
-        need(sizeof(T), what);
-        std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-        pos_ += sizeof(T);
-        return v;
-    }
-    template <class T>
-    void array(std::vector<T>& out, const char* what) {
-        const auto n = value<std::uint64_t>(what);
-        if (n > (bytes_.size() - pos_) / sizeof(T))
-            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
-        out.resize(static_cast<std::size_t>(n));
-        if (out.empty()) return;  // memcpy must not see the null data() of an empty vector
-        std::memcpy(out.data(), bytes_.data() + pos_, out.size() * sizeof(T));
-        pos_ += out.size() * sizeof(T);
-    }
-    std::string string(const char* what) {
-        const auto n = value<std::uint64_t>(what);
-        if (n > kMaxStringBytes)
-            fail(name_, std::string("corrupt checkpoint: ") + what + " length");
-        need(static_cast<std::size_t>(n), what);
-        std::string s = bytes_.substr(pos_, static_cast<std::size_t>(n));
-        pos_ += s.size();
-        return s;
-    }
-    bool atEnd() const { return pos_ == bytes_.size(); }
-
-  private:
-    void need(std::size_t n, const char* what) const {
-        if (n > bytes_.size() - pos_)
-            fail(name_, std::string("corrupt checkpoint: truncated at ") + what);
-    }
-    const std::string& bytes_;
-    const std::string& name_;
-    std::size_t pos_ = 0;
-};
+using detail::BinaryReader;
+using detail::BinaryWriter;
+using detail::fail;
+using detail::readParticleArrays;
+using detail::savedBytesPerParticle;
+using detail::writeParticleArrays;
 
 std::string serialize(const Checkpoint& c) {
-    Writer w;
+    BinaryWriter w;
     w.value(c.sceneFingerprint);
     w.string(c.pbfVersion);
     w.value<std::int32_t>(c.frame);
     w.value(c.time);
     const ParticleStore& p = c.particles;
     w.value<std::uint32_t>(p.nextId());
-    w.array(p.position.x);
-    w.array(p.position.y);
-    w.array(p.position.z);
-    w.array(p.velocity.x);
-    w.array(p.velocity.y);
-    w.array(p.velocity.z);
-    w.array(p.density);
-    w.array(p.id);
-    w.array(p.solveAcceleration.x);  // empty while the warm start is off
-    w.array(p.solveAcceleration.y);
-    w.array(p.solveAcceleration.z);
+    writeParticleArrays(w, p);
     w.array(c.emitters);
     w.array(c.bodies);
     const RunTotals& t = c.totals;
@@ -131,7 +57,7 @@ std::string serialize(const Checkpoint& c) {
 }
 
 Checkpoint deserialize(const std::string& payload, const std::string& name) {
-    Reader r(payload, name);
+    BinaryReader r(payload, name);
     Checkpoint c;
     c.sceneFingerprint = r.value<std::uint64_t>("scene fingerprint");
     c.pbfVersion = r.string("pbf version");
@@ -139,17 +65,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     c.time = r.value<double>("time");
     ParticleStore& p = c.particles;
     const auto nextId = r.value<std::uint32_t>("next id");
-    r.array(p.position.x, "position.x");
-    r.array(p.position.y, "position.y");
-    r.array(p.position.z, "position.z");
-    r.array(p.velocity.x, "velocity.x");
-    r.array(p.velocity.y, "velocity.y");
-    r.array(p.velocity.z, "velocity.z");
-    r.array(p.density, "density");
-    r.array(p.id, "id");
-    r.array(p.solveAcceleration.x, "solve acceleration.x");
-    r.array(p.solveAcceleration.y, "solve acceleration.y");
-    r.array(p.solveAcceleration.z, "solve acceleration.z");
+    readParticleArrays(r, p);
     r.array(c.emitters, "emitters");
     r.array(c.bodies, "rigid bodies");
     RunTotals& t = c.totals;
@@ -166,14 +82,6 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
 
     // The checksum passed, so these only fail for a file written by a buggy
     // or foreign program; still, never hand an inconsistent store to the solver.
-    const std::size_t n = p.id.size();
-    for (const std::size_t size :
-         {p.position.x.size(), p.position.y.size(), p.position.z.size(), p.velocity.x.size(),
-          p.velocity.y.size(), p.velocity.z.size(), p.density.size()})
-        if (size != n) fail(name, "corrupt checkpoint: particle arrays of different lengths");
-    const Float3Array& a = p.solveAcceleration;
-    if (!(a.x.size() == a.y.size() && a.x.size() == a.z.size() && (a.x.empty() || a.x.size() == n)))
-        fail(name, "corrupt checkpoint: particle arrays of different lengths");
     if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
         fail(name, "corrupt checkpoint: bad frame or time");
     std::vector<std::uint32_t> ids = p.id;
@@ -181,7 +89,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() ||
         (!ids.empty() && ids.back() >= nextId))
         fail(name, "corrupt checkpoint: particle ids are not unique or exceed the next id");
-    p.predicted = p.position;
+    p.predicted = p.position;  // the working copies start from the state
     p.setNextId(nextId);
     return c;
 }
@@ -220,8 +128,9 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
         fail(name, fmt::format("corrupt checkpoint: {} emitter states for a scene with {} emitters",
                                c.emitters.size(), world.emitters().size()));
     if (c.bodies.size() != world.bodyCount())
-        fail(name, fmt::format("corrupt checkpoint: {} rigid body states for a scene with {} bodies",
-                               c.bodies.size(), world.bodyCount()));
+        fail(name,
+             fmt::format("corrupt checkpoint: {} rigid body states for a scene with {} bodies",
+                         c.bodies.size(), world.bodyCount()));
     WorldState state;
     state.particles = c.particles;
     state.particles.predicted = state.particles.position;
@@ -288,8 +197,10 @@ Checkpoint readCheckpoint(const std::filesystem::path& path) {
 }
 
 std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes) {
-    // Header, scalars and length prefixes (< 512 bytes), 8 arrays of 4 bytes per particle, the CSVs.
-    return kHeaderBytes + 512 + std::uintmax_t{particles} * 32 + csvBytes;
+    // Header, scalars and length prefixes (< 512 bytes), the particle
+    // arrays (optional fields counted as on: the most a checkpoint holds), the CSVs.
+    return kHeaderBytes + 512 + std::uintmax_t{particles} * detail::savedBytesPerParticle() +
+           csvBytes;
 }
 
 }  // namespace pbf

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/hash.hpp"
 #include "io/json_reader.hpp"
+#include "pbf/param_table.hpp"
 
 namespace pbf {
 namespace {
@@ -100,39 +102,61 @@ Aabb readBox(JsonReader& r) {
     return box;
 }
 
-SolverParams readSolver(JsonReader r) {
-    SolverParams s;
-    s.iterations = r.integer("iterations", s.iterations);
-    s.maxDensityError = r.number("max_density_error", s.maxDensityError);
-    s.minIterations = r.integer("min_iterations", s.minIterations);
-    s.maxIterations = r.integer("max_iterations", s.maxIterations);
-    s.overRelaxation = r.number("over_relaxation", s.overRelaxation);
-    s.warmStart = r.number("warm_start", s.warmStart);
-    s.relaxation = r.number("relaxation", s.relaxation);
-    s.kernelRadiusFactor = r.number("kernel_radius_factor", s.kernelRadiusFactor);
-    {
-        JsonReader a = r.object("artificial_pressure");
-        s.artificialPressure.k = a.number("k", s.artificialPressure.k);
-        s.artificialPressure.n = a.integer("n", s.artificialPressure.n);
-        s.artificialPressure.dq = a.number("dq", s.artificialPressure.dq);
-        a.finish();
+// Reads every row of the parameter table (pbf/param_table.hpp) from its
+// place in the document — the top level, "fluid", "solver",
+// "solver.artificial_pressure" — and refuses keys in those objects that are
+// no parameter. Ranges are checked afterwards by validate(SimulationParams).
+void readParams(JsonReader& root, SimulationParams& sim) {
+    std::map<std::string, JsonReader, std::less<>> objects;
+    // The reader of the object a path prefix names ("" is the document).
+    auto objectAt = [&](auto& self, const std::string& prefix) -> JsonReader& {
+        if (prefix.empty()) return root;
+        if (auto it = objects.find(prefix); it != objects.end()) return it->second;
+        const std::size_t dot = prefix.rfind('.');
+        JsonReader& parent = dot == std::string::npos ? root : self(self, prefix.substr(0, dot));
+        const std::string key = dot == std::string::npos ? prefix : prefix.substr(dot + 1);
+        return objects.emplace(prefix, parent.object(key)).first->second;
+    };
+    for (const ParamInfo& param : paramTable()) {
+        const std::string path(param.path);
+        const std::size_t dot = path.rfind('.');
+        JsonReader& r = objectAt(objectAt, dot == std::string::npos ? "" : path.substr(0, dot));
+        const std::string key(param.name());
+        if (param.required && !r.has(key)) {
+            r.fail(key, param.type == ParamType::Box
+                            ? "missing (required): {\"min\": [...], \"max\": [...]}"
+                            : "missing (required), " + std::string(param.unit));
+        }
+        const ParamValue current = param.get(sim);
+        switch (param.type) {
+            case ParamType::Float:
+                param.set(sim, r.number(key, std::get<float>(current)));
+                break;
+            case ParamType::Int:
+                param.set(sim, r.integer(key, std::get<int>(current)));
+                break;
+            case ParamType::Vec3:
+                param.set(sim, r.vec3(key, std::get<Vec3>(current)));
+                break;
+            case ParamType::Box: {
+                JsonReader box = r.object(key);
+                param.set(sim, readBox(box));
+                box.finish();
+                break;
+            }
+            case ParamType::Choice: {
+                const std::string name =
+                    r.string(key, std::string(timeStepName(std::get<TimeStepMode>(current))));
+                try {
+                    param.set(sim, parseTimeStepName(name));
+                } catch (const std::invalid_argument& e) {
+                    r.fail(key, e.what());
+                }
+                break;
+            }
+        }
     }
-    const std::string mode = r.string("time_step", "adaptive");
-    if (mode == "adaptive") {
-        s.timeStepMode = TimeStepMode::Adaptive;
-    } else if (mode == "fixed") {
-        s.timeStepMode = TimeStepMode::Fixed;
-    } else {
-        r.fail("time_step", "expected \"adaptive\" or \"fixed\", got \"" + mode + "\"");
-    }
-    s.cfl = r.number("cfl", s.cfl);
-    s.maxTimeStep = r.number("max_time_step", s.maxTimeStep);
-    s.maxSubsteps = r.integer("max_substeps", s.maxSubsteps);
-    s.fixedSubsteps = r.integer("substeps", s.fixedSubsteps);
-    s.restitution = r.number("restitution", s.restitution);
-    s.friction = r.number("friction", s.friction);
-    r.finish();
-    return s;
+    for (const auto& [prefix, object] : objects) object.finish();
 }
 
 // Ranges, overlaps and placement are checked by validate(WorldDef).
@@ -375,24 +399,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         root.fail("name", "must be a non-empty name without '/'");
 
     SimulationParams& sim = scene.simulation;
-    {
-        JsonReader domain = root.object("domain");
-        if (!root.has("domain"))
-            root.fail("domain", "missing (required): {\"min\": [...], \"max\": [...]}");
-        sim.domain = readBox(domain);
-        domain.finish();
-    }
-    sim.gravity = root.vec3("gravity", sim.gravity);
-    if (!root.has("particle_radius")) root.fail("particle_radius", "missing (required), metres");
-    sim.particleRadius = root.number("particle_radius", sim.particleRadius);
-    {
-        JsonReader f = root.object("fluid");
-        sim.fluid.restDensity = f.number("rest_density", sim.fluid.restDensity);
-        sim.fluid.viscosity = f.number("viscosity", sim.fluid.viscosity);
-        sim.fluid.vorticity = f.number("vorticity", sim.fluid.vorticity);
-        f.finish();
-    }
-    sim.solver = readSolver(root.object("solver"));
+    readParams(root, sim);
     if (const std::string problem = validate(sim); !problem.empty())
         throw SceneError(sourceName + ": " + problem);
 

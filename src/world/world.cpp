@@ -8,6 +8,7 @@
 #include <exception>
 #include <utility>
 
+#include "pbf/param_table.hpp"
 #include "world/rigid_bodies.hpp"
 
 namespace pbf {
@@ -52,14 +53,12 @@ void World::applySettings(const SimulationParams& settings) {
     const std::string prefix = def_.source.empty() ? "" : def_.source + ": ";
     if (const std::string problem = validate(settings); !problem.empty())
         throw SceneError(prefix + problem);
-    const SimulationParams& fixed = def_.simulation;
-    if (!(settings.domain == fixed.domain))
-        throw SceneError(prefix + "domain: cannot change while the world runs");
-    if (settings.particleRadius != fixed.particleRadius)
-        throw SceneError(prefix + "particle_radius: cannot change while the world runs");
-    if (settings.solver.kernelRadiusFactor != fixed.solver.kernelRadiusFactor)
-        throw SceneError(prefix +
-                         "solver.kernel_radius_factor: cannot change while the world runs");
+    // The parameters that shape the grid and the particles (the table's
+    // rows that are not live) belong to the definition.
+    for (const ParamInfo& param : paramTable())
+        if (!param.live && !(param.get(settings) == param.get(def_.simulation)))
+            throw SceneError(prefix + std::string(param.path) +
+                             ": cannot change while the world runs");
     settings_ = settings;
     constants_ = SolverConstants::from(settings_);
 }

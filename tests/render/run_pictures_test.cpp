@@ -3,6 +3,7 @@
 // CTest fixture `run.default_scene` for a few frames into $PBF_RUN_DIR.
 // Checked here: a PNG per frame, the video (or, without ffmpeg, the frames
 // alone), a poster that shows the water, and the statistics plot.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
@@ -12,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "pbf/io.hpp"
 #include "pbf/process.hpp"
 #include "pbf/render/frame_images.hpp"
 #include "pbf/render/solid_mesh.hpp"
@@ -63,8 +65,43 @@ class DefaultSceneRun : public ::testing::Test {
     StatsTable stats_;
 };
 
-TEST_F(DefaultSceneRun, TheDefaultSceneAsksForImages) {
-    EXPECT_EQ(scene_.output.render.style, "spheres");
+// The share of pixels where two images differ by more than 30 (of 255) in a channel.
+double differingShare(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height || a.width == 0) return 1.0;
+    int differing = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) differing += image_check::difference(a, b, x, y) > 30;
+    return double(differing) / (double(a.width) * double(a.height));
+}
+
+// The image written while simulating frame k is the picture of frame k's
+// particles in the scene's look (output.render: spheres coloured by speed):
+// rendered again here from frame_0000k.ply (the run's own particle file) it
+// matches, and the neighbouring frame's particles do not. An image of the
+// wrong frame, of stale particles, or in another look than the scene asks
+// for fails this.
+TEST_F(DefaultSceneRun, EachImageIsItsFramesParticlesInTheScenesLook) {
+    ASSERT_GE(stats_.rows(), 4u);
+    const ImageSettings settings = imageSettingsFor(scene_);
+    const fs::path again = fs::temp_directory_path() / "pbf_run_pictures_test_again";
+    auto renderPly = [&](int frame) {
+        FrameImages images(settings, scene_.simulation.domain, scene_.simulation.particleRadius,
+                           tessellateSolids(scene_), again);
+        const ParticleFrame particles =
+            readParticlesPly(dir_ / fmt::format("frame_{:05d}.ply", frame));
+        images.write(frame, packParticles(particles, settings.look.color));
+        return loadPng(again / imageFileName(frame));
+    };
+    const int frame = 3;
+    const Image written = loadPng(dir_ / "images" / imageFileName(frame));
+    const Image same = renderPly(frame);
+    const Image previous = renderPly(frame - 1);
+    fs::remove_all(again);
+    const double sameShare = differingShare(written, same);
+    const double previousShare = differingShare(written, previous);
+    EXPECT_LT(sameShare, 0.002) << "the image of frame " << frame << " is not its particles";
+    EXPECT_GT(previousShare, 10.0 * sameShare + 0.001)
+        << "frames " << frame - 1 << " and " << frame << " look the same: the test cannot tell";
 }
 
 TEST_F(DefaultSceneRun, EveryFrameHasAnImageOfTheScenesSize) {

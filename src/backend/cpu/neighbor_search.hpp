@@ -23,6 +23,7 @@
 #include <span>
 #include <vector>
 
+#include "core/grid_limits.hpp"
 #include "pbf/particles.hpp"
 #include "pbf/vec3.hpp"
 
@@ -31,10 +32,6 @@ namespace pbf {
 namespace grid {
 struct GridView;
 }
-
-// Largest grid pbf builds (cells of edge h over the domain): 2^26 cells,
-// about 0.5 GiB of cell tables. Scenes beyond it are refused when loaded.
-inline constexpr std::size_t kMaxGridCells = std::size_t{1} << 26;
 
 // One particle's neighbour list. Compact lists (most of them: the indices a
 // block of sorted particles reaches span fewer than 65536) store 16-bit

@@ -1,26 +1,40 @@
 #include "backend/cpu/solver.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 
 #include "backend/cpu/solver_stages.hpp"
-#include "core/iteration_control.hpp"
 #include "core/parallel.hpp"
 
 namespace pbf {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Part = StepPlan<SolverStep>::Part;
 
-double millisecondsSince(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+// Runs fn(begin, end) over every particle / over the owned ones, in
+// parallel blocks.
+template <class Fn>
+void forAll(const SolverStep& s, Fn&& fn) {
+    detail::parallelFor(s.particles.size(), fn);
+}
+template <class Fn>
+void forOwned(const SolverStep& s, Fn&& fn) {
+    detail::parallelForRange(s.ownedBegin, s.ownedEnd, fn);
+}
+
+bool warmStartOn(const SolverStep& s) {
+    return s.context.params.solver.warmStart > 0.0f;
+}
+bool vorticityOn(const SolverStep& s) {
+    return s.context.params.fluid.vorticity > 0.0f;
 }
 
 }  // namespace
 
 Solver::Solver(const Aabb& domain, float kernelRadius, std::uint32_t compactListSpan)
-    : search_(domain, kernelRadius, kMaxGridCells, compactListSpan) {}
+    : search_(domain, kernelRadius, kMaxGridCells, compactListSpan) {
+    buildPlan();
+}
 
 void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
     if (packed_.size() != n) {
@@ -30,164 +44,182 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
     if (withVorticity) vorticity_.resize(n);  // allocates once, when first switched on
 }
 
-void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
-                  ReactionAccumulator* reactions, HaloExchange* halo) {
-    const SimulationParams& params = context.params;
-    const SolverConstants& c = context.constants;
-    const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
-    const FluidParams& fluid = params.fluid;
-    const SolverParams& s = params.solver;
-    const bool withVorticity = fluid.vorticity > 0.0f;
-    const Aabb& box = c.collisionBox;
-    const auto stepStart = Clock::now();
-    times.exchange = 0.0;
-    // Halo exchanges, timed apart (they are also inside the stage they serve).
-    auto exchange = [&](auto&& values) {
-        const auto start = Clock::now();
-        halo->exchange(values);
-        times.exchange += millisecondsSince(start);
-    };
+void Solver::buildPlan() {
+    // Alg. 1 l. 1-7: prediction, collisions, neighbours.
+    plan_.add(Part::Before, {Stage::Predict, [](SolverStep& s) {
+                                 ParticleStore& p = s.particles;
+                                 forAll(s, [&](std::size_t b, std::size_t e) {
+                                     stages::predictPositions(s.context.params.gravity, s.dt,
+                                                              s.context.constants.collisionBox,
+                                                              p.position, p.velocity, p.predicted,
+                                                              b, e);
+                                 });
+                                 // The last substep's pressure acceleration, in the store so
+                                 // that it follows the particles through reorder, emitters and
+                                 // checkpoints; dropped while the warm start is off.
+                                 p.keepOptionalField(ParticleField::solveAcceleration, warmStartOn(s));
+                             }});
+    plan_.add(Part::Before, {Stage::WarmStart,
+                             [](SolverStep& s) {
+                                 ParticleStore& p = s.particles;
+                                 forAll(s, [&](std::size_t b, std::size_t e) {
+                                     stages::warmStartPredictions(
+                                         s.context.constants, s.context.params.solver.warmStart,
+                                         s.dt, p.solveAcceleration, p.density.data(), p.predicted,
+                                         b, e);
+                                 });
+                             },
+                             warmStartOn});
+    plan_.add(Part::Before, {Stage::CollideSolids,
+                             [](SolverStep& s) {
+                                 ParticleStore& p = s.particles;
+                                 forAll(s, [&](std::size_t b, std::size_t e) {
+                                     stages::resolveSolidCollisions(s.context.constants, *s.solids,
+                                                                    s.reactions, p.position,
+                                                                    p.predicted, b, e);
+                                 });
+                             },
+                             [](const SolverStep& s) { return s.solids != nullptr; }});
+    plan_.add(Part::Before, {Stage::SortByCell, [this](SolverStep& s) {
+                                 const std::size_t n = s.particles.size();
+                                 ensureCapacity(n, vorticityOn(s));
+                                 s.ownedBegin = 0;
+                                 s.ownedEnd = n;
+                                 s.predicted = packed_.data();
+                                 s.withLambda = packedWithLambda_.data();
+                                 s.vorticity = &vorticity_;
+                                 search_.sortByCell(s.particles.predicted, perm_);
+                             }});
+    plan_.add(Part::Before,
+              {Stage::Reorder, [this](SolverStep& s) { s.particles.reorder(perm_); }});
+    plan_.add(Part::Before, {Stage::NeighborLists, [this](SolverStep& s) {
+                                 search_.buildNeighborLists(s.particles.predicted);
+                             }});
+    plan_.add(Part::Before, {Stage::PackPositions, [this](SolverStep& s) {
+                                 forAll(s, [&](std::size_t b, std::size_t e) {
+                                     stages::packPositions(s.particles.predicted, s.predicted, b,
+                                                           e);
+                                 });
+                                 blockCompression_.resize(
+                                     (s.particles.size() + detail::kBlockSize - 1) /
+                                     detail::kBlockSize);
+                             }});
 
-    auto t = Clock::now();
-    detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
-        stages::predictPositions(params.gravity, dt, box, p.position, p.velocity, p.predicted, b,
-                                 e);
-    });
-    // The last substep's pressure acceleration, in the store so that it
-    // follows the particles through reorder, emitters and checkpoints;
-    // dropped while the warm start is off.
-    const bool warmStart = s.warmStart > 0.0f;
-    p.solveAcceleration.resize(warmStart ? p.size() : 0);
-    if (warmStart) {
-        detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
-            stages::warmStartPredictions(c, s.warmStart, dt, p.solveAcceleration, p.density.data(),
-                                         p.predicted, b, e);
-        });
-    }
-    if (solids) {
-        detail::parallelFor(p.size(), [&](std::size_t b, std::size_t e) {
-            stages::resolveSolidCollisions(c, *solids, reactions, p.position, p.predicted, b, e);
-        });
-    }
-    times.predict = millisecondsSince(t);
+    // Alg. 1 l. 8-19: one density iteration.
+    plan_.add(Part::Iteration, {Stage::DensityAndLambda, [this](SolverStep& s) {
+                                    std::fill(blockCompression_.begin(), blockCompression_.end(),
+                                              std::int64_t{0});
+                                    forOwned(s, [&](std::size_t b, std::size_t e) {
+                                        blockCompression_[b / detail::kBlockSize] =
+                                            stages::computeDensityAndLambda(
+                                                s.context.constants, s.solids, search_,
+                                                s.predicted, s.particles.density.data(),
+                                                s.withLambda, b, e);
+                                    });
+                                }});
+    // The average compression of the state the density pass just saw.
+    auto errorControlled = [](const SolverStep& s) { return s.control.errorControlled(); };
+    plan_.add(Part::Iteration, {Stage::CompressionTotals,
+                                [this](SolverStep& s) {
+                                    s.compression[0] = 0;
+                                    s.compression[1] = std::int64_t(s.ownedEnd - s.ownedBegin);
+                                    for (const std::int64_t block : blockCompression_)
+                                        s.compression[0] += block;
+                                },
+                                errorControlled});
+    plan_.add(Part::Iteration, {Stage::ConvergenceCheck,
+                                [](SolverStep& s) {
+                                    s.stopIterations = s.control.converged(
+                                        s.corrections,
+                                        averageCompression(s.compression[0],
+                                                           std::uint64_t(s.compression[1])));
+                                },
+                                errorControlled});
+    // Reads (x*, lambda) of the neighbours, writes the corrected x* over the
+    // previous iteration's: the next density pass reads it.
+    plan_.add(Part::Iteration, {Stage::CorrectPositions, [this](SolverStep& s) {
+                                    forOwned(s, [&](std::size_t b, std::size_t e) {
+                                        stages::correctPositions(
+                                            s.context.constants, s.solids, s.reactions, search_,
+                                            s.particles.position, s.withLambda, s.predicted, b, e);
+                                    });
+                                }});
 
-    t = Clock::now();
-    if (halo) {
-        halo->distribute(p);
-        if (reactions) reactions->grow(p.size());
-        times.exchange += millisecondsSince(t);
-    }
-    const std::size_t n = p.size();
-    ensureCapacity(n, withVorticity);
-    auto part = Clock::now();
-    search_.sortByCell(p.predicted, perm_);
-    times.gridBuild = millisecondsSince(part);
-    part = Clock::now();
-    p.reorder(perm_);
-    times.reorder = millisecondsSince(part);
-    part = Clock::now();
-    search_.buildNeighborLists(p.predicted);
-    times.neighborLists = millisecondsSince(part);
-    times.neighborSearch = millisecondsSince(t);
-    // The particles whose values this process computes; the rest are ghosts.
-    std::size_t ownedBegin = 0, ownedEnd = n;
-    if (halo) halo->ownedRange(search_, ownedBegin, ownedEnd);
-    auto forOwned = [&](auto&& fn) { detail::parallelForRange(ownedBegin, ownedEnd, fn); };
-
-    t = Clock::now();
-    float* density = p.density.data();
-    PackedPoint* predicted = packed_.data();
-    PackedPoint* withLambda = packedWithLambda_.data();
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::packPositions(p.predicted, predicted, b, e);
-    });
-    times.lambda = times.deltaP = 0.0;
-    times.iterations = 0.0;
-    const IterationControl control(s);
-    blockCompression_.resize((n + detail::kBlockSize - 1) / detail::kBlockSize);
-    for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
-        part = Clock::now();
-        std::fill(blockCompression_.begin(), blockCompression_.end(), std::int64_t{0});
-        forOwned([&](std::size_t b, std::size_t e) {
-            blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(
-                c, solids, search_, predicted, density, withLambda, b, e);
-        });
-        if (halo) {
-            exchange(withLambda);
-            exchange(density);
-        }
-        times.lambda += millisecondsSince(part);
-        // The average compression of the state the density pass just saw,
-        // over the owned particles of every process (exact integer sums).
-        if (control.errorControlled()) {
-            std::int64_t totals[2] = {0, std::int64_t(ownedEnd - ownedBegin)};
-            for (const std::int64_t block : blockCompression_) totals[0] += block;
-            if (halo) halo->sum(totals, 2);
-            if (control.converged(corrections, averageCompression(totals[0], totals[1]))) break;
-        }
-        part = Clock::now();
-        // Reads (x*, lambda) of the neighbours, writes the corrected x* over
-        // the previous iteration's: the next density pass reads it.
-        forOwned([&](std::size_t b, std::size_t e) {
-            stages::correctPositions(c, solids, reactions, search_, p.position, withLambda,
-                                     predicted, b, e);
-        });
-        if (halo) exchange(predicted);
-        times.deltaP += millisecondsSince(part);
-        times.iterations += 1.0;
-    }
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::unpackPositions(predicted, p.predicted, b, e);
-    });
-    times.solve = millisecondsSince(t);
-
-    t = Clock::now();
-    if (warmStart) {
-        detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-            stages::recordSolveAcceleration(dt, p.position, p.predicted, p.velocity,
-                                            p.solveAcceleration, b, e);
-        });
-    }
+    // Alg. 1 l. 20-24: velocities, post-process, commit.
+    plan_.add(Part::After, {Stage::UnpackPositions, [](SolverStep& s) {
+                                forAll(s, [&](std::size_t b, std::size_t e) {
+                                    stages::unpackPositions(s.predicted, s.particles.predicted, b,
+                                                            e);
+                                });
+                            }});
+    plan_.add(Part::After, {Stage::RecordSolveAcceleration,
+                            [](SolverStep& s) {
+                                ParticleStore& p = s.particles;
+                                forAll(s, [&](std::size_t b, std::size_t e) {
+                                    stages::recordSolveAcceleration(s.dt, p.position, p.predicted,
+                                                                    p.velocity,
+                                                                    p.solveAcceleration, b, e);
+                                });
+                            },
+                            warmStartOn});
     // x* is still packed in `predicted`; (v, rho) go to the other buffer.
     // Ghosts included: their x, x* and density are their owners' values, so
     // (x* - x) / dt is their owners' velocity without an exchange.
-    PackedPoint* velocityDensity = withLambda;
-    detail::parallelFor(n, [&](std::size_t b, std::size_t e) {
-        stages::updateVelocity(1.0f / dt, p.position, p.predicted, density, p.velocity,
-                               velocityDensity, b, e);
-    });
-    if (fluid.viscosity > 0.0f || withVorticity) {
-        forOwned([&](std::size_t b, std::size_t e) {
-            stages::applyViscosityAndComputeVorticity(
-                c, fluid.viscosity, search_, predicted, velocityDensity,
-                withVorticity ? &vorticity_ : nullptr, p.velocity, b, e);
-        });
-    }
-    if (withVorticity) {
-        if (halo) exchange(vorticity_);
-        forOwned([&](std::size_t b, std::size_t e) {
-            stages::applyVorticityConfinement(c, fluid.vorticity, dt, search_, p.predicted,
-                                              vorticity_, density, p.velocity, b, e);
-        });
-    }
-    forOwned([&](std::size_t b, std::size_t e) {
-        stages::respondToBoundaries(c, solids, s.restitution, s.friction, dt, reactions,
-                                    p.predicted, p.velocity, b, e);
-        stages::commitPositions(p.predicted, p.position, b, e);
-    });
-    if (halo) {
-        part = Clock::now();
-        halo->collect(p);
-        times.exchange += millisecondsSince(part);
-    }
-    times.postProcess = millisecondsSince(t);
-    times.total = millisecondsSince(stepStart);
+    plan_.add(Part::After, {Stage::UpdateVelocity, [](SolverStep& s) {
+                                ParticleStore& p = s.particles;
+                                forAll(s, [&](std::size_t b, std::size_t e) {
+                                    stages::updateVelocity(1.0f / s.dt, p.position, p.predicted,
+                                                           p.density.data(), p.velocity,
+                                                           s.withLambda, b, e);
+                                });
+                            }});
+    plan_.add(Part::After, {Stage::ViscosityAndVorticity,
+                            [this](SolverStep& s) {
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::applyViscosityAndComputeVorticity(
+                                        s.context.constants, s.context.params.fluid.viscosity,
+                                        search_, s.predicted, s.withLambda,
+                                        vorticityOn(s) ? s.vorticity : nullptr,
+                                        s.particles.velocity, b, e);
+                                });
+                            },
+                            [](const SolverStep& s) {
+                                return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
+                            }});
+    plan_.add(Part::After, {Stage::VorticityConfinement,
+                            [this](SolverStep& s) {
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::applyVorticityConfinement(
+                                        s.context.constants, s.context.params.fluid.vorticity,
+                                        s.dt, search_, s.particles.predicted, *s.vorticity,
+                                        s.particles.density.data(), s.particles.velocity, b, e);
+                                });
+                            },
+                            vorticityOn});
+    plan_.add(Part::After, {Stage::BoundaryResponse, [](SolverStep& s) {
+                                const SolverParams& solver = s.context.params.solver;
+                                ParticleStore& p = s.particles;
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::respondToBoundaries(
+                                        s.context.constants, s.solids, solver.restitution,
+                                        solver.friction, s.dt, s.reactions, p.predicted,
+                                        p.velocity, b, e);
+                                    stages::commitPositions(p.predicted, p.position, b, e);
+                                });
+                            }});
+}
+
+void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
+                  ReactionAccumulator* reactions) {
+    SolverStep s(context, p, dt, reactions);
+    plan_.run(s, times);
 }
 
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
-           sizeof(float) * 3 * vorticity_.x.capacity();
+           sizeof(float) * 3 * vorticity_.x.capacity() +
+           sizeof(std::int64_t) * blockCompression_.capacity();
 }
 
 }  // namespace pbf

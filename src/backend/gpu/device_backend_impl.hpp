@@ -5,15 +5,19 @@
 // device_vector, for_each_n, stable_sort_by_key, gather, lower_bound,
 // transform_reduce, copy, fill.
 //
-// One step (Macklin & Mueller 2013, Algorithm 1) in the CPU backend's stage
-// order, each stage a for_each over the particles with a kernel of
-// device_kernels.hpp:
-//   predict       v += dt g, x* = x + dt v, warm start, swept collision   l. 1-4
-//   grid          cell keys of x*, stable sort by cell, cell ranges        l. 5-7
-//   reorder       every particle field permuted by cell (forEachField)
-//   iterations    rho and lambda; [tolerance test]; corrected x* (Jacobi)  l. 8-19
-//   post-process  v = (x* - x) / dt, XSPH + vorticity, confinement,       l. 21-23
-//                 wall and solid response, x = x*
+// One step (Macklin & Mueller 2013, Algorithm 1) is a StepPlan
+// (backend/step_plan.hpp) with the CPU solver's stage names, each stage a
+// for_each over the particles with a kernel of device_kernels.hpp
+// (DeviceBackend::buildPlan):
+//   predict, warm_start, collide_solids                       l. 1-4
+//   sort_by_cell (keys, stable sort, cell ranges), reorder    l. 5-7
+//   density_and_lambda, [compression_totals, convergence_check],
+//   correct_positions (Jacobi)                                 l. 8-19
+//   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
+//   vorticity_confinement, boundary_response (x = x*)          l. 20-24
+// The particle fields come from the one list (include/pbf/particle_fields.hpp):
+// DeviceParticles has a member per field, and upload, download, append and
+// the reorder visit them through it.
 // Reductions (largest speed, first bad particle, statistics, the coupled
 // solids' reactions, the tolerance's compression) are integer, max/min or
 // per-block sums added in block order: deterministic on a GPU and under any
@@ -34,6 +38,7 @@
 #include <thrust/sort.h>
 #include <thrust/transform_reduce.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -49,7 +54,9 @@
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
+#include "backend/step_plan.hpp"
 #include "core/reactions.hpp"
+#include "pbf/particle_fields.hpp"
 #include "pbf/particles.hpp"
 #include "pbf/threading.hpp"
 #include "world/boundary_scale.hpp"
@@ -151,52 +158,70 @@ class ScratchAllocator {
     std::vector<Block> blocks_;
 };
 
-// The particle state in device memory: the persistent fields of ParticleStore.
+// A field of the list (include/pbf/particle_fields.hpp) in device memory:
+// three float arrays for a 3-vector, one array otherwise.
+template <class T, int Components>
+using DeviceFieldArray = std::conditional_t<Components == 3, DeviceFloat3, DeviceArray<T>>;
+
+inline std::array<DeviceArray<float>*, 3> componentsOf(DeviceFloat3& a) {
+    return {&a.x, &a.y, &a.z};
+}
+inline std::array<const DeviceArray<float>*, 3> componentsOf(const DeviceFloat3& a) {
+    return {&a.x, &a.y, &a.z};
+}
+template <class T>
+std::array<DeviceArray<T>*, 1> componentsOf(DeviceArray<T>& a) {
+    return {&a};
+}
+template <class T>
+std::array<const DeviceArray<T>*, 1> componentsOf(const DeviceArray<T>& a) {
+    return {&a};
+}
+
+// The particle state in device memory: one member per field of the list,
+// as ParticleStore has, and which optional fields are on.
 struct DeviceParticles {
-    DeviceFloat3 position;           // x
-    DeviceFloat3 predicted;          // x*
-    DeviceFloat3 velocity;           // v
-    DeviceFloat3 solveAcceleration;  // the warm start's; empty while it is off
-    DeviceArray<float> density;
-    DeviceArray<std::uint32_t> id;
+#define PBF_DEVICE_MEMBER(name, type, components, unit, kind, description) \
+    DeviceFieldArray<type, components> name;
+    PBF_PARTICLE_FIELDS(PBF_DEVICE_MEMBER)
+#undef PBF_DEVICE_MEMBER
     std::uint32_t nextId = 0;
-    std::size_t size() const { return id.size(); }
+    std::uint32_t optionalOn = 0;  // ParticleStore::keptOptionalFields()
+    std::size_t size() const {
+        return id.size();
+    }
+    bool holdsValues(std::size_t field) const {
+        return ParticleStore::fields()[field].kind != ParticleFieldKind::Optional ||
+               ((optionalOn >> field) & 1u) != 0;
+    }
 };
 
-// The one list of the particle fields: calls fn(deviceArray, field, optional)
-// for every array, where field(store) is the matching ParticleStore vector
-// and an optional field may be empty (off) while the others hold one entry
-// per particle. Upload, download, append and the reorder by cell go through it.
+// Calls fn(field, deviceArray) for every component array of every field
+// of the list (the field's index in it).
 template <class Particles, class Fn>
-void forEachField(Particles& d, Fn&& fn) {
-    fn(
-        d.position.x, [](auto& s) -> auto& { return s.position.x; }, false);
-    fn(
-        d.position.y, [](auto& s) -> auto& { return s.position.y; }, false);
-    fn(
-        d.position.z, [](auto& s) -> auto& { return s.position.z; }, false);
-    fn(
-        d.predicted.x, [](auto& s) -> auto& { return s.predicted.x; }, false);
-    fn(
-        d.predicted.y, [](auto& s) -> auto& { return s.predicted.y; }, false);
-    fn(
-        d.predicted.z, [](auto& s) -> auto& { return s.predicted.z; }, false);
-    fn(
-        d.velocity.x, [](auto& s) -> auto& { return s.velocity.x; }, false);
-    fn(
-        d.velocity.y, [](auto& s) -> auto& { return s.velocity.y; }, false);
-    fn(
-        d.velocity.z, [](auto& s) -> auto& { return s.velocity.z; }, false);
-    fn(
-        d.solveAcceleration.x, [](auto& s) -> auto& { return s.solveAcceleration.x; }, true);
-    fn(
-        d.solveAcceleration.y, [](auto& s) -> auto& { return s.solveAcceleration.y; }, true);
-    fn(
-        d.solveAcceleration.z, [](auto& s) -> auto& { return s.solveAcceleration.z; }, true);
-    fn(
-        d.density, [](auto& s) -> auto& { return s.density; }, false);
-    fn(
-        d.id, [](auto& s) -> auto& { return s.id; }, false);
+void forEachDeviceArray(Particles& d, Fn&& fn) {
+    std::size_t field = 0;
+#define PBF_VISIT_DEVICE_FIELD(name, type, components, unit, kind, description) \
+    for (auto* array : componentsOf(d.name)) fn(field, *array);                 \
+    ++field;
+    PBF_PARTICLE_FIELDS(PBF_VISIT_DEVICE_FIELD)
+#undef PBF_VISIT_DEVICE_FIELD
+}
+
+// Calls fn(field, deviceArray, hostVector) for every component array of
+// every field, with the matching array of a ParticleStore.
+template <class Particles, class Store, class Fn>
+void forEachFieldArray(Particles& d, Store& store, Fn&& fn) {
+    std::size_t field = 0;
+#define PBF_VISIT_FIELD_PAIR(name, type, components, unit, kind, description)            \
+    {                                                                                    \
+        const auto device = componentsOf(d.name);                                        \
+        const auto host = ::pbf::componentsOf(store.name);                               \
+        for (std::size_t c = 0; c < device.size(); ++c) fn(field, *device[c], *host[c]); \
+        ++field;                                                                         \
+    }
+    PBF_PARTICLE_FIELDS(PBF_VISIT_FIELD_PAIR)
+#undef PBF_VISIT_FIELD_PAIR
 }
 
 // The solids in device memory (device_solids.hpp): the shapes (uploaded when
@@ -351,6 +376,20 @@ inline double millisecondsSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// The per-step context of the device's stages (backend/step_plan.hpp).
+struct DeviceStep : StepProgress {
+    DeviceStep(const SolverContext& stepContext, float stepDt)
+        : context(stepContext), dt(stepDt), control(stepContext.params.solver) {
+        maxIterations = control.maxIterations();
+    }
+    const SolverContext& context;
+    float dt;
+    IterationControl control;
+    SolidsArgument solids;         // the device's solids (present: any)
+    SearchGrid search;             // the sorted grid, valid from the sort on
+    std::int64_t compression = 0;  // sum of C_i, fixed point (tolerance mode)
+};
+
 class DeviceBackend final : public Backend {
   public:
     DeviceBackend(BackendKind kind, const SimulationParams& params)
@@ -359,7 +398,11 @@ class DeviceBackend final : public Backend {
           sampleSpacing_(0.5f * params.particleRadius),
           sampleMargin_(params.kernelRadius() + 2.0f * params.particleRadius) {
         cellStart_.resize(std::size_t{grid_.n[0]} * grid_.n[1] * grid_.n[2] + 1);
+        buildPlan();
     }
+    // The plan's stages refer to this backend.
+    DeviceBackend(const DeviceBackend&) = delete;
+    DeviceBackend& operator=(const DeviceBackend&) = delete;
 
     BackendKind kind() const override { return kind_; }
     std::size_t size() const override { return p_.size(); }
@@ -375,16 +418,16 @@ class DeviceBackend final : public Backend {
                 "Backend::append: positions and velocities differ in length");
         if (positions.empty()) return;
         ThreadScope threads;
+        // The new particles as ParticleStore::add makes them (zeros in the
+        // optional fields that are on), then copied behind the others.
         ParticleStore added;
         added.setNextId(p_.nextId);
+        added.keepOptionalFields(p_.optionalOn);
         for (std::size_t k = 0; k < positions.size(); ++k)
             added.add(positions[k], velocities[k], density);
         const std::size_t old = p_.size();
-        if (p_.solveAcceleration.size() == old && old > 0)
-            added.solveAcceleration.resize(positions.size());
-        forEachField(p_, [&](auto& array, auto field, bool optional) {
-            const auto& values = field(added);
-            if (optional && values.empty()) return;
+        forEachFieldArray(p_, added, [&](std::size_t field, auto& array, const auto& values) {
+            if (!p_.holdsValues(field)) return;
             array.resize(old + values.size());
             thrust::copy(values.begin(), values.end(), array.begin() + old);
         });
@@ -395,8 +438,8 @@ class DeviceBackend final : public Backend {
     void download(ParticleStore& out) const override {
         ThreadScope threads;
         out = ParticleStore();
-        forEachField(p_, [&](auto& array, auto field, bool) {
-            auto& values = field(out);
+        out.keepOptionalFields(p_.optionalOn);
+        forEachFieldArray(p_, out, [&](std::size_t, const auto& array, auto& values) {
             values.resize(array.size());
             thrust::copy(array.begin(), array.end(), values.begin());
         });
@@ -406,10 +449,13 @@ class DeviceBackend final : public Backend {
     void upload(ParticleStore state) override {
         ThreadScope threads;
         const std::size_t n = state.size();
-        forEachField(p_, [&](auto& array, auto field, bool optional) {
-            const auto& values = field(state);
-            if (values.size() != n && !(optional && values.empty()))
-                throw std::invalid_argument("Backend::upload: particle arrays differ in length");
+        p_.optionalOn = state.keptOptionalFields();
+        forEachFieldArray(p_, state, [&](std::size_t field, auto& array, const auto& values) {
+            if (values.size() != (p_.holdsValues(field) ? n : 0))
+                throw std::invalid_argument(std::string("Backend::upload: field ") +
+                                            ParticleStore::fields()[field].name + " holds " +
+                                            std::to_string(values.size()) + " values for " +
+                                            std::to_string(n) + " particles");
             array.resize(values.size());
             thrust::copy(values.begin(), values.end(), array.begin());
         });
@@ -417,41 +463,23 @@ class DeviceBackend final : public Backend {
         searchValid_ = false;
     }
 
+    // One step: the plan's stages (buildPlan), then the coupled solids'
+    // reactions from their per-block sums.
     void step(const SolverContext& context, float dt) override {
         ThreadScope threads;
-        const auto stepStart = Clock::now();
-        times_ = {};
-        const std::size_t n = p_.size();
-        if (n > std::numeric_limits<std::uint32_t>::max())
+        if (p_.size() > std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("the GPU backend indexes particles with 32 bits");
-        const SimulationParams& params = context.params;
-        const SolidsArgument solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
-        prepare(params, solids, context.solids);
-
-        auto t = Clock::now();
-        predict(context, solids, dt);
-        times_.predict = millisecondsSince(t);
-
-        t = Clock::now();
-        auto part = Clock::now();
-        sortByCell();
-        times_.gridBuild = millisecondsSince(part);
-        part = Clock::now();
-        reorder();
-        times_.reorder = millisecondsSince(part);
-        times_.neighborSearch = millisecondsSince(t);
-
-        t = Clock::now();
-        iterate(context, solids);
-        times_.solve = millisecondsSince(t);
-
-        t = Clock::now();
-        postProcess(context, solids, dt);
+        DeviceStep s(context, dt);
+        s.solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
+        prepare(context.params, s.solids, context.solids);
+        s.search = searchGrid();
+        plan_.run(s, times_);
         finishReactions(context, dt);
-        times_.postProcess = millisecondsSince(t);
-        times_.total = millisecondsSince(stepStart);
         searchValid_ = true;
     }
+
+    // The stages of a step, in order (tests, docs).
+    const StepPlan<DeviceStep>& plan() const { return plan_; }
 
     float maxSpeed() const override {
         ThreadScope threads;
@@ -599,7 +627,7 @@ class DeviceBackend final : public Backend {
         const bool warm = params.solver.warmStart > 0.0f;
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
-        p_.solveAcceleration.resize(warm ? n : 0);
+        setOptionalField(ParticleField::solveAcceleration, warm);
         search_.resize(n);
         corrected_.resize(n);
         lambda_.resize(n);
@@ -619,6 +647,20 @@ class DeviceBackend final : public Backend {
             reactionSums_.resize(blocks * solidCount_ * 6);
             thrust::fill(reactionSums_.begin(), reactionSums_.end(), 0.0);
         }
+    }
+
+    // Switches an optional field on (zeros) or off (emptied), as
+    // ParticleStore::keepOptionalField.
+    void setOptionalField(ParticleField field, bool on) {
+        const std::uint32_t bit = std::uint32_t{1} << static_cast<std::uint32_t>(field);
+        if (on == ((p_.optionalOn & bit) != 0)) return;
+        p_.optionalOn = on ? p_.optionalOn | bit : p_.optionalOn & ~bit;
+        const std::size_t n = p_.size();
+        forEachDeviceArray(p_, [&](std::size_t k, auto& array) {
+            if (k != static_cast<std::size_t>(field)) return;
+            array.clear();
+            if (on) array.resize(n);  // value-initialised: zeros
+        });
     }
 
     ReactionSlot slot(int k) {
@@ -659,23 +701,160 @@ class DeviceBackend final : public Backend {
                 reactionFromSums(&totals[6 * k], context.constants.particleMass, dt);
     }
 
-    // Alg. 1 l. 1-4: predict, warm start, collide with the solids (the
-    // reaction records of this stage are folded before the reorder: the
-    // blocks of the particles' old order, as on the CPU).
-    void predict(const SolverContext& context, const SolidsArgument& solids, float dt) {
-        const std::size_t n = p_.size();
-        const SolverConstants& c = context.constants;
-        forEachIndex(n, PredictKernel{c.collisionBox, context.params.gravity, dt,
-                                      p_.position.view(), p_.velocity.view(), p_.predicted.view()});
-        const float warm = context.params.solver.warmStart;
-        if (warm > 0.0f)
-            forEachIndex(n, WarmStartKernel{c, warm, dt, p_.predicted.view(),
-                                            p_.solveAcceleration.view(), raw(p_.density)});
-        if (solids.present) {
-            forEachIndex(n, CollideSolidsKernel{c, solids.solids, p_.position.view(),
-                                                p_.predicted.view(), slot(0)});
-            foldReactions(1);
-        }
+    // The stages of a step (backend/step_plan.hpp: the CPU solver's names
+    // and StageTimes accounting), each one or two kernels over all
+    // particles. No neighbour lists: the kernels walk the sorted grid.
+    void buildPlan() {
+        using Part = StepPlan<DeviceStep>::Part;
+        const auto warmStartOn = [](const DeviceStep& s) {
+            return s.context.params.solver.warmStart > 0.0f;
+        };
+        const auto vorticityOn = [](const DeviceStep& s) {
+            return s.context.params.fluid.vorticity > 0.0f;
+        };
+        const auto solidsOn = [](const DeviceStep& s) { return s.solids.present; };
+        const auto errorControlled = [](const DeviceStep& s) {
+            return s.control.errorControlled();
+        };
+
+        // Alg. 1 l. 1-7: prediction, collisions, the sorted grid.
+        plan_.add(Part::Before,
+                  {Stage::Predict, [this](DeviceStep& s) {
+                       forEachIndex(p_.size(), PredictKernel{s.context.constants.collisionBox,
+                                                             s.context.params.gravity, s.dt,
+                                                             p_.position.view(), p_.velocity.view(),
+                                                             p_.predicted.view()});
+                   }});
+        plan_.add(Part::Before,
+                  {Stage::WarmStart,
+                   [this](DeviceStep& s) {
+                       forEachIndex(
+                           p_.size(),
+                           WarmStartKernel{s.context.constants, s.context.params.solver.warmStart,
+                                           s.dt, p_.predicted.view(), p_.solveAcceleration.view(),
+                                           raw(p_.density)});
+                   },
+                   warmStartOn});
+        // Its reaction records are folded before the reorder: the blocks of
+        // the particles' old order, as on the CPU.
+        plan_.add(Part::Before,
+                  {Stage::CollideSolids,
+                   [this](DeviceStep& s) {
+                       forEachIndex(
+                           p_.size(),
+                           CollideSolidsKernel{s.context.constants, s.solids.solids,
+                                               p_.position.view(), p_.predicted.view(), slot(0)});
+                       foldReactions(1);
+                   },
+                   solidsOn});
+        plan_.add(Part::Before, {Stage::SortByCell, [this](DeviceStep&) { sortByCell(); }});
+        plan_.add(Part::Before, {Stage::Reorder, [this](DeviceStep&) { reorder(); }});
+
+        // Alg. 1 l. 8-19: one density iteration (Jacobi), as the reference.
+        plan_.add(Part::Iteration,
+                  {Stage::DensityAndLambda, [this](DeviceStep& s) {
+                       forEachIndex(p_.size(), DensityLambdaKernel{s.context.constants, s.solids,
+                                                                   s.search, p_.predicted.view(),
+                                                                   raw(p_.density), raw(lambda_)});
+                   }});
+        // The tolerance's test (core/iteration_control.hpp): the compression
+        // summed in fixed point, exact in any order.
+        plan_.add(Part::Iteration, {Stage::CompressionTotals,
+                                    [this](DeviceStep& s) {
+                                        const std::size_t n = p_.size();
+                                        s.compression = thrust::transform_reduce(
+                                            thrust::device(scratch_), indices(),
+                                            indices(std::uint32_t(n)),
+                                            CompressionOf{s.context.constants, raw(p_.density)},
+                                            std::int64_t{0}, thrust::plus<std::int64_t>());
+                                    },
+                                    errorControlled});
+        plan_.add(Part::Iteration, {Stage::ConvergenceCheck,
+                                    [this](DeviceStep& s) {
+                                        s.stopIterations = s.control.converged(
+                                            s.corrections,
+                                            averageCompression(s.compression, p_.size()));
+                                    },
+                                    errorControlled});
+        plan_.add(Part::Iteration, {Stage::CorrectPositions, [this](DeviceStep& s) {
+                                        CorrectionKernel k;
+                                        k.c = s.context.constants;
+                                        k.solids = s.solids;
+                                        k.search = s.search;
+                                        k.position = p_.position.view();
+                                        k.predicted = p_.predicted.view();
+                                        k.corrected = corrected_.view();
+                                        k.lambda = {raw(lambda_)};
+                                        k.boundaryTerm = slot(0);
+                                        k.projection = slot(1);
+                                        forEachIndex(p_.size(), k);
+                                        foldReactions(2);
+                                        p_.predicted.x.swap(corrected_.x);
+                                        p_.predicted.y.swap(corrected_.y);
+                                        p_.predicted.z.swap(corrected_.z);
+                                    }});
+
+        // Alg. 1 l. 20-24: velocities, post-process, commit.
+        plan_.add(Part::After, {Stage::RecordSolveAcceleration,
+                                [this](DeviceStep& s) {
+                                    forEachIndex(
+                                        p_.size(),
+                                        RecordSolveAccelerationKernel{
+                                            s.dt, p_.position.view(), p_.predicted.view(),
+                                            p_.velocity.view(), p_.solveAcceleration.view()});
+                                },
+                                warmStartOn});
+        plan_.add(Part::After,
+                  {Stage::UpdateVelocity, [this](DeviceStep& s) {
+                       forEachIndex(p_.size(),
+                                    UpdateVelocityKernel{s.dt, p_.position.view(),
+                                                         p_.predicted.view(), p_.velocity.view()});
+                   }});
+        // XSPH and the vorticity read the velocities above and the last
+        // density pass's densities (Jacobi: XSPH's output goes to post_,
+        // then becomes v); confinement then adds to each particle's own v.
+        plan_.add(Part::After,
+                  {Stage::ViscosityAndVorticity,
+                   [this, vorticityOn](DeviceStep& s) {
+                       const Float3View omega = vorticityOn(s) ? vorticity_.view() : Float3View{};
+                       forEachIndex(p_.size(), XsphVorticityKernel{s.context.constants,
+                                                                   s.context.params.fluid.viscosity,
+                                                                   s.search,
+                                                                   p_.predicted.view(),
+                                                                   p_.velocity.view(),
+                                                                   post_.view(),
+                                                                   omega,
+                                                                   {raw(p_.density)}});
+                       p_.velocity.x.swap(post_.x);
+                       p_.velocity.y.swap(post_.y);
+                       p_.velocity.z.swap(post_.z);
+                   },
+                   [vorticityOn](const DeviceStep& s) {
+                       return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
+                   }});
+        plan_.add(Part::After, {Stage::VorticityConfinement,
+                                [this](DeviceStep& s) {
+                                    forEachIndex(p_.size(),
+                                                 ConfinementKernel{s.context.constants,
+                                                                   s.context.params.fluid.vorticity,
+                                                                   s.dt,
+                                                                   s.search,
+                                                                   p_.predicted.view(),
+                                                                   vorticity_.view(),
+                                                                   p_.velocity.view(),
+                                                                   {raw(p_.density)}});
+                                },
+                                vorticityOn});
+        plan_.add(Part::After,
+                  {Stage::BoundaryResponse, [this](DeviceStep& s) {
+                       const SolverParams& solver = s.context.params.solver;
+                       forEachIndex(
+                           p_.size(),
+                           RespondCommitKernel{s.context.constants, solver.restitution,
+                                               solver.friction, s.dt, s.solids, p_.predicted.view(),
+                                               p_.velocity.view(), p_.position.view(), slot(0)});
+                       foldReactions(1);
+                   }});
     }
 
     // Cell keys of x*, the stable sort by cell (ties keep their order, so the
@@ -691,12 +870,12 @@ class DeviceBackend final : public Backend {
                             cellStart_.begin());
     }
 
-    // Every particle field permuted by the sort's order; x* also kept as the
-    // search positions (StencilNeighbors).
+    // Every particle field of the list permuted by the sort's order; x* also
+    // kept as the search positions (StencilNeighbors).
     void reorder() {
         const std::size_t n = p_.size();
-        forEachField(p_, [&](auto& array, auto, bool) {
-            if (array.size() != n) return;  // an optional field that is off
+        forEachDeviceArray(p_, [&](std::size_t field, auto& array) {
+            if (!p_.holdsValues(field)) return;  // an optional field that is off
             using T = typename std::decay_t<decltype(array)>::value_type;
             if constexpr (std::is_same_v<T, float>) {
                 gatherFloat_.resize(n);
@@ -718,93 +897,9 @@ class DeviceBackend final : public Backend {
                      search_.z.begin());
     }
 
-    // Alg. 1 l. 8-19, as the reference backend: a density pass, the
-    // tolerance's test (core/iteration_control.hpp: the compression summed
-    // in fixed point, exact in any order), a correction pass; Jacobi.
-    void iterate(const SolverContext& context, const SolidsArgument& solids) {
-        const SolverConstants& c = context.constants;
-        const std::size_t n = p_.size();
-        const IterationControl control(context.params.solver);
-        const SearchGrid search = searchGrid();
-        for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
-            auto part = Clock::now();
-            forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(),
-                                                raw(p_.density), raw(lambda_)});
-            times_.lambda += millisecondsSince(part);
-            if (control.errorControlled()) {
-                const std::int64_t compression = thrust::transform_reduce(
-                    thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
-                    CompressionOf{c, raw(p_.density)}, std::int64_t{0},
-                    thrust::plus<std::int64_t>());
-                if (control.converged(corrections, averageCompression(compression, n))) break;
-            }
-            part = Clock::now();
-            CorrectionKernel k;
-            k.c = c;
-            k.solids = solids;
-            k.search = search;
-            k.position = p_.position.view();
-            k.predicted = p_.predicted.view();
-            k.corrected = corrected_.view();
-            k.lambda = {raw(lambda_)};
-            k.boundaryTerm = slot(0);
-            k.projection = slot(1);
-            forEachIndex(n, k);
-            foldReactions(2);
-            p_.predicted.x.swap(corrected_.x);
-            p_.predicted.y.swap(corrected_.y);
-            p_.predicted.z.swap(corrected_.z);
-            times_.deltaP += millisecondsSince(part);
-            times_.iterations += 1.0;
-        }
-    }
-
-    void postProcess(const SolverContext& context, const SolidsArgument& solids, float dt) {
-        const SolverConstants& c = context.constants;
-        const SimulationParams& params = context.params;
-        const std::size_t n = p_.size();
-        const SearchGrid search = searchGrid();
-        if (params.solver.warmStart > 0.0f)
-            forEachIndex(
-                n, RecordSolveAccelerationKernel{dt, p_.position.view(), p_.predicted.view(),
-                                                 p_.velocity.view(), p_.solveAcceleration.view()});
-        forEachIndex(n, UpdateVelocityKernel{dt, p_.position.view(), p_.predicted.view(),
-                                             p_.velocity.view()});
-        const FluidParams& fluid = params.fluid;
-        const bool withVorticity = fluid.vorticity > 0.0f;
-        if (fluid.viscosity > 0.0f || withVorticity) {
-            const Float3View omega = withVorticity ? vorticity_.view() : Float3View{};
-            forEachIndex(n, XsphVorticityKernel{c,
-                                                fluid.viscosity,
-                                                search,
-                                                p_.predicted.view(),
-                                                p_.velocity.view(),
-                                                post_.view(),
-                                                omega,
-                                                {raw(p_.density)}});
-            if (withVorticity)
-                forEachIndex(n, ConfinementKernel{c,
-                                                  fluid.vorticity,
-                                                  dt,
-                                                  search,
-                                                  p_.predicted.view(),
-                                                  omega,
-                                                  post_.view(),
-                                                  {raw(p_.density)}});
-            p_.velocity.x.swap(post_.x);
-            p_.velocity.y.swap(post_.y);
-            p_.velocity.z.swap(post_.z);
-        }
-        const SolverParams& s = params.solver;
-        forEachIndex(
-            n, RespondCommitKernel{c, s.restitution, s.friction, dt, solids, p_.predicted.view(),
-                                   p_.velocity.view(), p_.position.view(), slot(0)});
-        foldReactions(1);
-    }
-
     std::size_t memoryBytes() const {
         std::size_t bytes = 0;
-        forEachField(p_, [&](auto& array, auto, bool) { bytes += bytesOf(array); });
+        forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
         bytes += search_.bytes() + corrected_.bytes() + post_.bytes() + vorticity_.bytes();
         bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
@@ -825,6 +920,7 @@ class DeviceBackend final : public Backend {
     float sampleSpacing_;
     float sampleMargin_;
     DeviceParticles p_;
+    StepPlan<DeviceStep> plan_;
     mutable DeviceSolidStore solids_;   // refreshed by every call given solids
     mutable ScratchAllocator scratch_;  // Thrust's temporary buffers
     // The step's scratch.

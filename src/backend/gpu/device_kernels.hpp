@@ -260,18 +260,20 @@ struct XsphVorticityKernel {
     }
 };
 
-// Second pass: vorticity confinement (eq. 16) adds dt a_i to `post`.
+// Second pass: vorticity confinement (eq. 16) adds dt a_i to particle i's
+// velocity (XSPH's result); it reads only the neighbours' omega and rho.
 struct ConfinementKernel {
     SolverConstants c;
     float epsilon = 0.0f;
     float dt = 0.0f;
     SearchGrid search;
-    Float3View predicted, vorticity, post;
+    Float3View predicted, vorticity, velocity;
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
         const Vec3 eta =
             reference::vorticityGradientOf(c, search.of(i), predicted, vorticity, density, i);
-        post.set(i, post(i) + dt * reference::vorticityConfinement(c, epsilon, eta, vorticity(i)));
+        velocity.set(
+            i, velocity(i) + dt * reference::vorticityConfinement(c, epsilon, eta, vorticity(i)));
     }
 };
 

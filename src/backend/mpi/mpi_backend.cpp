@@ -42,6 +42,7 @@ class MpiBackend final : public Backend {
         MPI_Comm_rank(comm_, &rank_);
         MPI_Comm_size(comm_, &ranks_);
         halo_.setKeys(&keys_);
+        insertExchanges(solver_.plan());
     }
 
     BackendKind kind() const override { return BackendKind::Mpi; }
@@ -67,8 +68,7 @@ class MpiBackend final : public Backend {
 
     void step(const SolverContext& context, float dt) override {
         reactions_.reset(store_.size(), context.solids);
-        solver_.step(context, store_, dt, times_, reactions_.active() ? &reactions_ : nullptr,
-                     &halo_);
+        solver_.step(context, store_, dt, times_, reactions_.active() ? &reactions_ : nullptr);
         renumber();
         // The coupled solids' reactions: this rank's share, summed over ranks.
         reactions_.forces(context.constants.particleMass, dt, lastReactions_);
@@ -161,11 +161,11 @@ class MpiBackend final : public Backend {
     void download(ParticleStore& out) const override {
         std::vector<ParticleRecord> mine(store_.size());
         for (std::size_t i = 0; i < store_.size(); ++i) mine[i] = recordOf(store_, i, keys_[i]);
-        // The warm start's accelerations, kept by every rank that has
-        // particles while it is on (a rank may have none).
-        int accelerated = store_.solveAcceleration.x.empty() ? 0 : 1;
-        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &accelerated, 1, MPI_INT, MPI_MAX, comm_),
-                 "MPI_Allreduce (warm start)");
+        // The optional fields (the warm start's accelerations) are kept by
+        // every rank that has particles while they are on (a rank may have none).
+        std::uint32_t optional = store_.keptOptionalFields();
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &optional, 1, MPI_UINT32_T, MPI_BOR, comm_),
+                 "MPI_Allreduce (optional particle fields)");
         int count = int(mine.size());
         const auto ranks = static_cast<std::size_t>(ranks_);
         std::vector<int> counts(ranks, 0), offsets(ranks, 0);
@@ -185,8 +185,9 @@ class MpiBackend final : public Backend {
         if (!std::is_sorted(all.begin(), all.end(), byKey))
             std::sort(all.begin(), all.end(), byKey);
         ParticleStore result;
-        result.reserve(all.size());
-        for (const ParticleRecord& r : all) appendRecord(result, r, accelerated != 0);
+        result.keepOptionalFields(optional);
+        result.resize(all.size());
+        for (std::size_t k = 0; k < all.size(); ++k) setFromRecord(result, k, all[k]);
         result.setNextId(store_.nextId());
         out = std::move(result);
     }
@@ -194,8 +195,7 @@ class MpiBackend final : public Backend {
     // Rank 0's state is split into slabs (balanced for its particles); the
     // other ranks' arguments are ignored.
     void upload(ParticleStore state) override {
-        unsigned long long header[3] = {state.size(), state.nextId(),
-                                        state.solveAcceleration.x.empty() ? 0ull : 1ull};
+        unsigned long long header[3] = {state.size(), state.nextId(), state.keptOptionalFields()};
         checkMpi(MPI_Bcast(header, 3, MPI_UNSIGNED_LONG_LONG, 0, comm_), "MPI_Bcast (upload)");
         const NeighborSearch& grid = solver_.neighborSearch();
         std::vector<std::uint64_t> counts(grid.planeCount(), 0);
@@ -228,11 +228,12 @@ class MpiBackend final : public Backend {
                               mine.data(), count, halo_.recordType(), 0, comm_),
                  "MPI_Scatterv (upload)");
         store_ = ParticleStore();
-        store_.reserve(mine.size());
-        keys_.clear();
-        for (const ParticleRecord& r : mine) {
-            appendRecord(store_, r, header[2] != 0);
-            keys_.push_back(r.key);
+        store_.keepOptionalFields(std::uint32_t(header[2]));
+        store_.resize(mine.size());
+        keys_.resize(mine.size());
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            setFromRecord(store_, k, mine[k]);
+            keys_[k] = mine[k].key;
         }
         store_.setNextId(std::uint32_t(header[1]));
         total_ = header[0];
@@ -260,6 +261,44 @@ class MpiBackend final : public Backend {
     }
 
   private:
+    // The distributed step: the CPU solver's stages with this process's
+    // exchanges between them (backend/mpi/slab_halo.hpp).
+    void insertExchanges(StepPlan<SolverStep>& plan) {
+        // After prediction and the swept collision: particles whose x* left
+        // this slab go to their owners, arrivals and ghosts are added, and
+        // the store is put into the order the one-process solver would have
+        // them in (so that the stable sort gives the same relative order).
+        plan.insertAfter(Stage::CollideSolids, {Stage::Distribute, [this](SolverStep& s) {
+                                                    halo_.distribute(s.particles);
+                                                    if (s.reactions)
+                                                        s.reactions->grow(s.particles.size());
+                                                }});
+        // After the sort: the owned particles are a contiguous range.
+        plan.insertAfter(Stage::NeighborLists, {Stage::OwnedRange, [this](SolverStep& s) {
+                                                    halo_.ownedRange(solver_.neighborSearch(),
+                                                                     s.ownedBegin, s.ownedEnd);
+                                                }});
+        // The ghosts' values of what the next pass reads from neighbours.
+        plan.insertAfter(Stage::DensityAndLambda, {Stage::ExchangeLambda, [this](SolverStep& s) {
+                                                       halo_.exchange(s.withLambda);
+                                                       halo_.exchange(s.particles.density.data());
+                                                   }});
+        plan.insertAfter(Stage::CompressionTotals,
+                         {Stage::SumCompression,
+                          [this](SolverStep& s) { halo_.sum(s.compression, 2); },
+                          [](const SolverStep& s) { return s.control.errorControlled(); }});
+        plan.insertAfter(Stage::CorrectPositions,
+                         {Stage::ExchangePositions,
+                          [this](SolverStep& s) { halo_.exchange(s.predicted); }});
+        plan.insertAfter(Stage::ViscosityAndVorticity,
+                         {Stage::ExchangeVorticity,
+                          [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
+                          [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
+        // End of the step: the ghosts are dropped.
+        plan.insertAfter(Stage::BoundaryResponse,
+                         {Stage::Collect, [this](SolverStep& s) { halo_.collect(s.particles); }});
+    }
+
     // After a step: the owned particles in their sorted order are the
     // one-process order's range [offset, offset + size) of this rank.
     void renumber() {

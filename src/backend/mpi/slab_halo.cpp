@@ -7,46 +7,6 @@
 
 namespace pbf {
 
-ParticleRecord recordOf(const ParticleStore& p, std::size_t i, std::uint64_t key) {
-    ParticleRecord r;
-    r.position[0] = p.position.x[i];
-    r.position[1] = p.position.y[i];
-    r.position[2] = p.position.z[i];
-    r.predicted[0] = p.predicted.x[i];
-    r.predicted[1] = p.predicted.y[i];
-    r.predicted[2] = p.predicted.z[i];
-    r.velocity[0] = p.velocity.x[i];
-    r.velocity[1] = p.velocity.y[i];
-    r.velocity[2] = p.velocity.z[i];
-    r.density = p.density[i];
-    r.id = p.id[i];
-    const bool accelerated = i < p.solveAcceleration.size();
-    r.solveAcceleration[0] = accelerated ? p.solveAcceleration.x[i] : 0.0f;
-    r.solveAcceleration[1] = accelerated ? p.solveAcceleration.y[i] : 0.0f;
-    r.solveAcceleration[2] = accelerated ? p.solveAcceleration.z[i] : 0.0f;
-    r.key = key;
-    return r;
-}
-
-void appendRecord(ParticleStore& p, const ParticleRecord& r, bool withAcceleration) {
-    p.position.push_back({r.position[0], r.position[1], r.position[2]});
-    p.predicted.push_back({r.predicted[0], r.predicted[1], r.predicted[2]});
-    p.velocity.push_back({r.velocity[0], r.velocity[1], r.velocity[2]});
-    p.density.push_back(r.density);
-    p.id.push_back(r.id);
-    if (withAcceleration)
-        p.solveAcceleration.push_back(
-            {r.solveAcceleration[0], r.solveAcceleration[1], r.solveAcceleration[2]});
-}
-
-namespace {
-
-Vec3 predictedOf(const ParticleRecord& r) {
-    return {r.predicted[0], r.predicted[1], r.predicted[2]};
-}
-
-}  // namespace
-
 void checkMpi(int code, const char* call) {
     if (code == MPI_SUCCESS) return;
     char text[MPI_MAX_ERROR_STRING];
@@ -251,34 +211,14 @@ void SlabHalo::distribute(ParticleStore& p) {
 
     // The new store, in key order.
     const std::size_t n = entries_.size();
-    next_.position.resize(n);
-    next_.predicted.resize(n);
-    next_.velocity.resize(n);
-    next_.density.resize(n);
-    next_.id.resize(n);
-    const bool accelerated = !p.solveAcceleration.x.empty();
-    next_.solveAcceleration.resize(accelerated ? n : 0);
+    next_.keepOptionalFields(p.keptOptionalFields());
+    next_.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
         const Entry& e = entries_[k];
-        if (e.source < n0) {
-            const std::size_t i = e.source;
-            next_.position.set(k, p.position.get(i));
-            next_.predicted.set(k, p.predicted.get(i));
-            next_.velocity.set(k, p.velocity.get(i));
-            next_.density[k] = p.density[i];
-            next_.id[k] = p.id[i];
-            if (accelerated) next_.solveAcceleration.set(k, p.solveAcceleration.get(i));
-        } else {
-            const ParticleRecord& r = incoming_[e.source - n0];
-            next_.position.set(k, {r.position[0], r.position[1], r.position[2]});
-            next_.predicted.set(k, predictedOf(r));
-            next_.velocity.set(k, {r.velocity[0], r.velocity[1], r.velocity[2]});
-            next_.density[k] = r.density;
-            next_.id[k] = r.id;
-            if (accelerated)
-                next_.solveAcceleration.set(
-                    k, {r.solveAcceleration[0], r.solveAcceleration[1], r.solveAcceleration[2]});
-        }
+        if (e.source < n0)
+            next_.copyParticle(k, p, e.source);
+        else
+            setFromRecord(next_, k, incoming_[e.source - n0]);
     }
     next_.setNextId(p.nextId());
     std::swap(p, next_);
@@ -317,6 +257,14 @@ void SlabHalo::exchangeBytes(T* data, std::size_t bytes) {
 void SlabHalo::sum(std::int64_t* values, int count) {
     checkMpi(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_INT64_T, MPI_SUM, comm_),
              "MPI_Allreduce (iteration control)");
+}
+
+void SlabHalo::exchange(PackedPoint* records) {
+    exchangeBytes(records, sizeof(PackedPoint));
+}
+
+void SlabHalo::exchange(float* values) {
+    exchangeBytes(values, sizeof(float));
 }
 
 void SlabHalo::exchange(Float3Array& values) {

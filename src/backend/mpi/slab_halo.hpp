@@ -38,31 +38,14 @@
 #include <vector>
 
 #include "backend/cpu/solver.hpp"
+#include "backend/mpi/particle_record.hpp"
 
 namespace pbf {
-
-// One particle in transit between ranks: the persistent fields and its key.
-struct ParticleRecord {
-    float position[3];
-    float predicted[3];
-    float velocity[3];
-    float density;
-    std::uint32_t id;
-    float solveAcceleration[3];  // the warm start's (zero while it is off)
-    std::uint32_t unused = 0;
-    std::uint64_t key;
-};
-
-// Particle i of `p` as a record (its solve acceleration zero when the store
-// keeps none), and a record appended to `p` (the acceleration only when
-// `withAcceleration`: the store keeps it only while the warm start is on).
-ParticleRecord recordOf(const ParticleStore& p, std::size_t i, std::uint64_t key);
-void appendRecord(ParticleStore& p, const ParticleRecord& r, bool withAcceleration);
 
 // Throws std::runtime_error naming `call` when an MPI call failed.
 void checkMpi(int code, const char* call);
 
-class SlabHalo final : public HaloExchange {
+class SlabHalo {
   public:
     // `grid`: the solver's neighbour search (geometry and, during a step,
     // the sorted cell ranges). Throws std::runtime_error when the grid has
@@ -70,7 +53,7 @@ class SlabHalo final : public HaloExchange {
     SlabHalo(MPI_Comm comm, const NeighborSearch& grid);
     SlabHalo(const SlabHalo&) = delete;
     SlabHalo& operator=(const SlabHalo&) = delete;
-    ~SlabHalo() override;
+    ~SlabHalo();
 
     MPI_Datatype recordType() const { return recordType_; }
     // Rank r owns planes [cuts()[r], cuts()[r + 1]).
@@ -86,13 +69,19 @@ class SlabHalo final : public HaloExchange {
     // backend keeps them; distribute reads them).
     void setKeys(const std::vector<std::uint64_t>* keys) { keys_ = keys; }
 
-    void distribute(ParticleStore& p) override;
-    void ownedRange(const NeighborSearch& search, std::size_t& begin, std::size_t& end) override;
-    void exchange(PackedPoint* records) override { exchangeBytes(records, sizeof(PackedPoint)); }
-    void exchange(float* values) override { exchangeBytes(values, sizeof(float)); }
-    void exchange(Float3Array& values) override;
-    void sum(std::int64_t* values, int count) override;
-    void collect(ParticleStore& p) override;
+    // After prediction and the swept collision: migration, arrivals and
+    // ghosts added, the store put in key order (see above).
+    void distribute(ParticleStore& p);
+    // After the sort: the owned particles are [begin, end) of the store.
+    void ownedRange(const NeighborSearch& search, std::size_t& begin, std::size_t& end);
+    // The ghosts' entries of these arrays (store order) from their owners.
+    void exchange(PackedPoint* records);
+    void exchange(float* values);
+    void exchange(Float3Array& values);
+    // Sums over all processes, in place (integers: exact in any order).
+    void sum(std::int64_t* values, int count);
+    // End of the step: drops the ghosts.
+    void collect(ParticleStore& p);
 
   private:
     struct Entry {

@@ -58,7 +58,7 @@ void ReferenceBackend::load() {
 }
 
 void ReferenceBackend::commit(bool warmStart) {
-    store_.solveAcceleration.resize(warmStart ? store_.size() : 0);
+    store_.keepOptionalField(ParticleField::solveAcceleration, warmStart);
     for (std::size_t i = 0; i < store_.size(); ++i) {
         store_.position.set(i, position_[i]);
         store_.predicted.set(i, predicted_[i]);

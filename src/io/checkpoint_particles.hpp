@@ -1,0 +1,20 @@
+// The particle arrays of a checkpoint (private header): every field of the
+// particle list (pbf/particle_fields.hpp) but the solver's working copies,
+// in list order, each component an array with its length.
+#pragma once
+
+#include <cstddef>
+
+#include "io/binary_stream.hpp"
+#include "pbf/particles.hpp"
+
+namespace pbf::detail {
+
+void writeParticleArrays(BinaryWriter& w, const ParticleStore& p);
+// Reads what writeParticleArrays wrote into `p` (its working fields are left
+// empty); throws IoError when the arrays' lengths disagree.
+void readParticleArrays(BinaryReader& r, ParticleStore& p);
+// Bytes per particle of the arrays, optional fields counted as on.
+std::size_t savedBytesPerParticle();
+
+}  // namespace pbf::detail
