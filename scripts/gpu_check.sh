@@ -39,8 +39,8 @@ mkdir -p "$out"
 ./build/release/pbf --version | grep -q '^  cuda  *[^ nb]' ||
   { echo "gpu_check: the cuda device is not usable (see above)" >&2; exit 1; }
 
-# The GPU backend's tests (gtest cases and the command-line ones), on the GPU.
-PBF_TEST_DEVICE=cuda ctest --preset release -R 'Device|device' -j 1 2>&1 | tee "$out/tests.txt"
+# The GPU backend's tests (gtest cases, the command-line ones, Python's device="cuda"), on the GPU.
+PBF_TEST_DEVICE=cuda ctest --preset release -R 'Device|device|^python$' -j 1 2>&1 | tee "$out/tests.txt"
 
 # Throughput: particle-steps per second, time per stage, device memory.
 ./build/release/pbf bench --device cuda --sizes "$sizes" --steps "$steps" 2>&1 | tee "$out/bench_cuda.txt"
