@@ -40,10 +40,16 @@ mkdir -p "$out"
   { echo "gpu_check: the cuda device is not usable (see above)" >&2; exit 1; }
 
 # The GPU backend's tests (gtest cases, the command-line ones, Python's device="cuda"), on the GPU.
-PBF_TEST_DEVICE=cuda ctest --preset release -R 'Device|device|^python$' -j 1 2>&1 | tee "$out/tests.txt"
+tests=0
+PBF_TEST_DEVICE=cuda ctest --preset release -R 'Device|device|^python$' -j 1 2>&1 | tee "$out/tests.txt" ||
+  tests=$?
 
 # Throughput: particle-steps per second, time per stage, device memory.
 ./build/release/pbf bench --device cuda --sizes "$sizes" --steps "$steps" 2>&1 | tee "$out/bench_cuda.txt"
 ./build/release/pbf bench --device cpu --sizes "$sizes" --steps 5 --warmup 2 2>&1 | tee "$out/bench_cpu.txt"
 nvidia-smi --query-gpu=name,memory.total,driver_version,clocks.max.sm --format=csv | tee "$out/gpu.txt"
+if [ "$tests" -ne 0 ]; then
+  echo "gpu_check: tests FAILED on the GPU (see $out/tests.txt); benchmark figures above" >&2
+  exit 1
+fi
 echo "gpu_check: done; results in $out"
