@@ -6,7 +6,7 @@
 #include <random>
 
 #include "backend/cpu/neighbor_search.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 int main(int argc, char** argv) {
     const int frames = argc > 1 ? std::atoi(argv[1]) : 30;

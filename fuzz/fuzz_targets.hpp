@@ -17,9 +17,9 @@
 #include <string_view>
 #include <vector>
 
-#include "pbf/checkpoint.hpp"
-#include "pbf/io.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/io/checkpoint.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/scene.hpp"
 
 namespace pbf::fuzz {
 

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Draws pbf's figures with matplotlib: the one plotting path of `pbf plot`,
-`pbf run` and `pbf validate` (include/pbf/plot.hpp writes the data, this
+`pbf run` and `pbf validate` (include/pbf/run/plot.hpp writes the data, this
 script only draws it).
 
 usage: pbf_plot.py DATA.plot.json OUT.png [DATA.plot.json OUT.png ...]

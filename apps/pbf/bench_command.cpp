@@ -17,10 +17,10 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "device_option.hpp"
-#include "pbf/distributed.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/world.hpp"
+#include "pbf/core/distributed.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::cli {
 namespace {

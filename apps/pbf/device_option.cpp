@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "pbf/version.hpp"
+#include "pbf/core/version.hpp"
 
 namespace pbf::cli {
 

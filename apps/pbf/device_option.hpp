@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf::cli {
 

@@ -13,8 +13,8 @@
 
 #include "commands.hpp"
 #include "console.hpp"
-#include "pbf/io.hpp"
-#include "pbf/plot.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/run/plot.hpp"
 #include "pbf/surface/diffuse.hpp"
 #include "pbf/surface/mesh_frames.hpp"
 

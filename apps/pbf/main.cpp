@@ -7,7 +7,7 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "device_option.hpp"
-#include "pbf/distributed.hpp"
+#include "pbf/core/distributed.hpp"
 
 namespace {
 

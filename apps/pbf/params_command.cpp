@@ -1,5 +1,5 @@
 // `pbf params`: every simulation parameter (the parameter table,
-// include/pbf/param_table.hpp) with its unit, default, valid range and
+// include/pbf/core/param_table.hpp) with its unit, default, valid range and
 // whether it can change while a world runs; `--markdown` prints the table of
 // docs/scenes.md.
 #include <fmt/format.h>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "pbf/param_table.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf::cli {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
-#include "pbf/run.hpp"
+#include "pbf/run/run.hpp"
 
 namespace pbf::cli {
 namespace {

@@ -18,17 +18,17 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "device_option.hpp"
-#include "pbf/io.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/scene.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/frame_images.hpp"
 #include "pbf/render/renderer.hpp"
 #include "pbf/render/solid_mesh.hpp"
 #include "pbf/render/video.hpp"
-#include "pbf/run.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/run/run.hpp"
 #include "pbf/surface/diffuse.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::cli {
 namespace {

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 #ifdef PBF_HAVE_RENDER
 #include "pbf/render/frame_images.hpp"
@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 struct RunImages::Impl {
     Scene scene;
-    fs::path directory;  // the run's
+    fs::path directory;                         // the run's
     render::SolidMesh statics;                  // the static solids
     std::vector<render::SolidMesh> bodyShapes;  // rigid bodies, posed per frame
     render::FrameImages images;

@@ -8,9 +8,9 @@
 #include <memory>
 #include <string>
 
-#include "pbf/run.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/run/run.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::cli {
 

@@ -1,5 +1,5 @@
 // `pbf validate [CASE ...] [--quick] [--out DIR]`: the physics checked
-// against experiments and closed forms (include/pbf/validate.hpp,
+// against experiments and closed forms (include/pbf/validate/validate.hpp,
 // docs/validation.md).
 #include <fmt/format.h>
 
@@ -11,8 +11,8 @@
 
 #include "commands.hpp"
 #include "console.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/validate.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/validate/validate.hpp"
 
 namespace pbf::cli {
 namespace {

@@ -11,9 +11,9 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "device_option.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/scene.hpp"
 #include "pbf/render/viewer.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/threading.hpp"
 
 namespace pbf::cli {
 namespace {

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "pbf/param_table.hpp"
-#include "pbf/params.hpp"
-#include "pbf/vec3.hpp"
-#include "pbf/world_def.hpp"
+#include "pbf/core/param_table.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/world/world_def.hpp"
 
 // The definition's lists are bound as opaque Python lists (py::bind_vector)
 // so that `definition.fluid_blocks.append(block)` changes the definition;
@@ -85,13 +85,13 @@ namespace pbf::python {
 
 namespace py = pybind11;
 
-void bindErrors(py::module_& m);      // errors.cpp
-void bindParams(py::module_& m);      // params.cpp
-void bindDefinition(py::module_& m);  // definition.cpp
+void bindErrors(py::module_& m);           // errors.cpp
+void bindParams(py::module_& m);           // params.cpp
+void bindDefinition(py::module_& m);       // definition.cpp
 void bindBodyDescription(py::module_& m);  // bodies.cpp: pbf.RigidBodyDescription
-void bindSettings(py::module_& m);    // settings.cpp
-void bindWorld(py::module_& m);       // world.cpp
-void bindRun(py::module_& m);         // run.cpp
+void bindSettings(py::module_& m);         // settings.cpp
+void bindWorld(py::module_& m);            // world.cpp
+void bindRun(py::module_& m);              // run.cpp
 
 // A parameter's value as Python shows it (floats through shortestDouble,
 // "solver.time_step" as its name), and a Python value as the parameter's

@@ -1,5 +1,5 @@
-// The world definition (include/pbf/world_def.hpp) and scene files
-// (include/pbf/scene.hpp): plain data that a pbf.World is built from.
+// The world definition (include/pbf/world/world_def.hpp) and scene files
+// (include/pbf/io/scene.hpp): plain data that a pbf.World is built from.
 //
 //   d = pbf.WorldDef(name="column")
 //   d.simulation.domain = ((0, 0, 0), (1.6, 0.6, 0.2))
@@ -272,7 +272,7 @@ void bindWorldDef(py::module_& m) {
 
     py::class_<WorldDef>(m, "WorldDef",
                          "The definition of a simulation: parameters, fluid blocks, solids, "
-                         "emitters, frame rate and state guard (include/pbf/world_def.hpp).")
+                         "emitters, frame rate and state guard (include/pbf/world/world_def.hpp).")
         .def(py::init([](const std::string& name, const py::handle& simulation,
                          const py::handle& blocks, const py::handle& solids,
                          const py::handle& emitters, float fps, const py::handle& guard) {
@@ -307,10 +307,9 @@ void bindWorldDef(py::module_& m) {
         .def("count_particles", &countParticles,
              "Particles the fluid blocks create (before solids remove any).")
         .def("__repr__", [](const py::object& self) {
-            return reprOf(
-                self, "WorldDef",
-                {"name", "simulation", "fluid_blocks", "solids", "rigid_bodies", "emitters", "fps",
-                 "guard"});
+            return reprOf(self, "WorldDef",
+                          {"name", "simulation", "fluid_blocks", "solids", "rigid_bodies",
+                           "emitters", "fps", "guard"});
         });
 }
 

@@ -1,7 +1,7 @@
 #include "errors.hpp"
 
 #include "bindings.hpp"
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf::python {
 namespace {

@@ -11,7 +11,7 @@
 #include <cerrno>
 #include <filesystem>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::python {
 

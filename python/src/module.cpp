@@ -5,8 +5,8 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/version.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/core/version.hpp"
 
 PYBIND11_MODULE(_pbf, m) {
     namespace py = pybind11;

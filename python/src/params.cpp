@@ -1,6 +1,6 @@
-// Simulation parameters (include/pbf/params.hpp) and the box type: the
+// Simulation parameters (include/pbf/core/params.hpp) and the box type: the
 // plain structs a definition is made of. Their attributes are the rows of
-// the parameter table (include/pbf/param_table.hpp), named as in scene
+// the parameter table (include/pbf/core/param_table.hpp), named as in scene
 // files, so `params.solver.iterations` in Python is "solver.iterations" in
 // a scene and in error messages.
 #include <pybind11/operators.h>

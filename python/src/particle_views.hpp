@@ -7,7 +7,7 @@
 
 #include <pybind11/numpy.h>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::python {
 

@@ -3,14 +3,14 @@
 // runScene (PLY frames, stats.csv, summary.json, checkpoints). The GIL is
 // released while it runs; Ctrl-C stops it between frames with a checkpoint
 // written, as SIGINT does for the CLI, and is then raised as KeyboardInterrupt.
-#include "pbf/run.hpp"
+#include "pbf/run/run.hpp"
 
 #include <optional>
 #include <string>
 
 #include "bindings.hpp"
 #include "errors.hpp"
-#include "pbf/threading.hpp"
+#include "pbf/core/threading.hpp"
 #include "scene_file.hpp"
 
 namespace pbf::python {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 
 namespace pbf::python {
 

@@ -1,4 +1,4 @@
-// pbf.World: one simulation driven from Python (include/pbf/world.hpp).
+// pbf.World: one simulation driven from Python (include/pbf/world/world.hpp).
 //
 //   world = pbf.World.from_scene("scenes/dam_break.json", {"solver.iterations": 8})
 //   report = world.step_frame()        # GIL released while the solver works

@@ -13,7 +13,7 @@
 #include <mutex>
 #include <utility>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::python {
 

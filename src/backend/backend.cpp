@@ -1,5 +1,5 @@
 // The backend factory and the parts of the seam every backend shares.
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -8,7 +8,6 @@
 #include "backend/gpu/device_backend.hpp"
 #include "backend/mpi/mpi_backend.hpp"
 #include "backend/reference/reference_backend.hpp"
-#include "pbf/world_def.hpp"
 
 namespace pbf {
 
@@ -52,18 +51,16 @@ DeviceInfo deviceInfo(BackendKind kind) {
             break;
         case BackendKind::Mpi:
 #if defined(PBF_HAVE_MPI)
-            s = {true, true, "the cpu solver on one slab per MPI rank (mpirun -np N)",
-                 availableMemoryBytes()};
+            s = {true, true, "the cpu solver on one slab per MPI rank (mpirun -np N)", 0};
 #else
             s = {false, false, "this pbf was built without MPI", 0};
 #endif
             break;
         case BackendKind::Cpu:
-            s = {true, true, "SIMD (Highway), OpenMP", availableMemoryBytes()};
+            s = {true, true, "SIMD (Highway), OpenMP", 0};
             break;
         case BackendKind::Reference:
-            s = {true, true, "scalar, one function per equation (the test oracle)",
-                 availableMemoryBytes()};
+            s = {true, true, "scalar, one function per equation (the test oracle)", 0};
             break;
     }
     info.built = s.built;

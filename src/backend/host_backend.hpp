@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "core/reactions.hpp"
-#include "pbf/backend.hpp"
+#include "backend/reactions.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf {
 

@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf {
 

@@ -1,6 +1,6 @@
 // MPI start-up and the few collective helpers the drivers need
-// (include/pbf/distributed.hpp). Without PBF_HAVE_MPI, one rank.
-#include "pbf/distributed.hpp"
+// (include/pbf/core/distributed.hpp). Without PBF_HAVE_MPI, one rank.
+#include "pbf/core/distributed.hpp"
 
 #include <algorithm>
 #include <cstdlib>

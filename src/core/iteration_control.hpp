@@ -12,8 +12,8 @@
 
 #include <cstdint>
 
-#include "pbf/config.hpp"
-#include "pbf/params.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/params.hpp"
 
 namespace pbf {
 

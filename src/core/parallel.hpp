@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/blocks.hpp"
-#include "pbf/threading.hpp"
+#include "pbf/core/threading.hpp"
 
 namespace pbf::detail {
 

@@ -1,4 +1,4 @@
-#include "pbf/param_table.hpp"
+#include "pbf/core/param_table.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -255,8 +255,8 @@ std::string ParamInfo::check(const SimulationParams& params) const {
         case ParamType::Float:
         case ParamType::Int: {
             const double v = numeric(value);
-            const double hi = range.hiParam.empty() ? range.hi
-                                                    : numeric(findParam(range.hiParam)->get(params));
+            const double hi =
+                range.hiParam.empty() ? range.hi : numeric(findParam(range.hiParam)->get(params));
             const bool above = range.loOpen ? v > range.lo : v >= range.lo;
             const bool below = range.hiOpen ? v < hi : v <= hi;
             if (above && below) return {};  // NaN fails both
@@ -329,8 +329,8 @@ std::string paramTableMarkdown() {
     for (const ParamInfo& p : kTable) {
         const std::string value = p.required ? "required" : "`" + defaultText(p) + "`";
         out += "| `" + std::string(p.path) + "` | " + std::string(p.unit) + " | " + value + " | " +
-               rangeText(p) + " | " + (p.live ? "yes" : "no") + " | " +
-               std::string(p.description) + " |\n";
+               rangeText(p) + " | " + (p.live ? "yes" : "no") + " | " + std::string(p.description) +
+               " |\n";
     }
     return out;
 }

@@ -1,10 +1,10 @@
-#include "pbf/params.hpp"
+#include "pbf/core/params.hpp"
 
 #include <cmath>
 #include <string>
 
 #include "core/grid_limits.hpp"
-#include "pbf/param_table.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf {
 

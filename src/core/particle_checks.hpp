@@ -1,6 +1,6 @@
 // Per-particle terms of the reductions every backend answers (private
-// header): the statistics' partial sums (include/pbf/statistics.hpp) and the
-// state guard's test (include/pbf/state_guard.hpp). PBF_HD and templates
+// header): the statistics' partial sums (include/pbf/backend/statistics.hpp) and the
+// state guard's test (include/pbf/core/state_guard.hpp). PBF_HD and templates
 // over the solids' type, so that the host's loops (core/statistics.cpp,
 // core/state_guard.cpp) and the GPU backend's reductions compute the same
 // values; with the same fixed blocks, added in block order, the same bits.
@@ -11,11 +11,11 @@
 #include <cstddef>
 #include <string>
 
-#include "pbf/config.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/state_guard.hpp"
-#include "pbf/statistics.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/backend/statistics.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/state_guard.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::detail {
 

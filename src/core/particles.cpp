@@ -1,4 +1,4 @@
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "pbf/solver_constants.hpp"
+#include "pbf/core/solver_constants.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "pbf/state_guard.hpp"
+#include "pbf/core/state_guard.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,6 @@
 
 #include "core/parallel.hpp"
 #include "core/particle_checks.hpp"
-#include "pbf/world_def.hpp"
 
 namespace pbf {
 namespace {
@@ -68,19 +67,6 @@ std::optional<BadParticle> findBadParticle(const ParticleStore& p, double speedL
     const std::size_t i = first.index;
     return detail::describeBadParticle(i, p.id[i], p.position.get(i), p.velocity.get(i),
                                        speedLimit);
-}
-
-double speedLimit(const WorldDef& def) {
-    if (def.guard.maxSpeed > 0.0f) return def.guard.maxSpeed;
-    const SimulationParams& sim = def.simulation;
-    const double diagonal = length(sim.domain.extent());
-    double reference = std::sqrt(2.0 * double(length(sim.gravity)) * diagonal);
-    double blockSpeed = 0.0;
-    for (const FluidBlock& b : def.fluidBlocks)
-        blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
-    reference += blockSpeed;
-    if (!(reference > 0.0)) reference = diagonal * def.fps;
-    return double(def.guard.maxSpeedFactor) * reference;
 }
 
 }  // namespace pbf

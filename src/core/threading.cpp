@@ -1,4 +1,4 @@
-#include "pbf/threading.hpp"
+#include "pbf/core/threading.hpp"
 
 #include <omp.h>
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <random>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf {
 namespace {

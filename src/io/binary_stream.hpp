@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf::detail {
 

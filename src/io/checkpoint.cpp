@@ -1,4 +1,4 @@
-#include "pbf/checkpoint.hpp"
+#include "pbf/io/checkpoint.hpp"
 
 #include <fmt/format.h>
 
@@ -12,9 +12,9 @@
 #include "core/hash.hpp"
 #include "io/binary_stream.hpp"
 #include "io/checkpoint_particles.hpp"
-#include "pbf/io.hpp"
-#include "pbf/version.hpp"
-#include "pbf/world.hpp"
+#include "pbf/core/version.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf {
 namespace {

@@ -1,12 +1,12 @@
 // The particle arrays of a checkpoint (private header): every field of the
-// particle list (pbf/particle_fields.hpp) but the solver's working copies,
+// particle list (pbf/core/particle_fields.hpp) but the solver's working copies,
 // in list order, each component an array with its length.
 #pragma once
 
 #include <cstddef>
 
 #include "io/binary_stream.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace pbf::detail {
 

@@ -6,8 +6,8 @@
 #include <set>
 #include <string>
 
-#include "pbf/scene.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/io/scene.hpp"
 
 namespace pbf::detail {
 

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf {
 namespace {

@@ -1,4 +1,4 @@
-#include "pbf/process.hpp"
+#include "pbf/io/process.hpp"
 
 #include <fcntl.h>
 #include <spawn.h>

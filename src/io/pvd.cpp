@@ -1,4 +1,4 @@
-// .pvd collections (include/pbf/vtk.hpp): the list of a series' files with
+// .pvd collections (include/pbf/io/vtk.hpp): the list of a series' files with
 // their simulated times, which ParaView shows as its time steps.
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "pbf/io.hpp"
-#include "pbf/vtk.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/vtk.hpp"
 
 namespace pbf::vtk {
 namespace {

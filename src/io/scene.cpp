@@ -1,4 +1,4 @@
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "core/hash.hpp"
 #include "io/json_reader.hpp"
-#include "pbf/param_table.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf {
 namespace {
@@ -102,7 +102,7 @@ Aabb readBox(JsonReader& r) {
     return box;
 }
 
-// Reads every row of the parameter table (pbf/param_table.hpp) from its
+// Reads every row of the parameter table (pbf/core/param_table.hpp) from its
 // place in the document — the top level, "fluid", "solver",
 // "solver.artificial_pressure" — and refuses keys in those objects that are
 // no parameter. Ranges are checked afterwards by validate(SimulationParams).
@@ -234,8 +234,7 @@ void readRenderOutput(JsonReader& o, RenderOutput& render) {
 
 // The shape fields shared by `solids` and `rigid_bodies` (docs/scenes.md).
 // Bodies have no planes; a body box may be rotated about its centre.
-void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& folder,
-               bool body) {
+void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& folder, bool body) {
     const std::string type = r.string("type", "");
     if (type == "box") {
         d.kind = SolidDescription::Kind::Box;
@@ -266,8 +265,8 @@ void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& 
         d.transform.rotationDegrees = r.vec3("rotation", {});
         d.transform.translation = r.vec3("translation", {});
     } else if (body) {
-        r.fail("type", "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\", got \"" +
-                           type + "\"");
+        r.fail("type",
+               "expected \"box\", \"sphere\", \"cylinder\" or \"mesh\", got \"" + type + "\"");
     } else {
         r.fail("type", "expected \"box\", \"sphere\", \"plane\", \"cylinder\" or \"mesh\", got \"" +
                            type + "\"");
@@ -302,7 +301,8 @@ void readRigidBodies(JsonReader& root, Scene& scene) {
             r.fail("density", "give exactly one of density (kg/m^3) and mass (kg)");
         if (r.has("density")) {
             b.density = r.number("density", 0.0f);
-            if (!(b.density > 0.0f)) r.fail("density", "must be positive, got " + std::to_string(b.density));
+            if (!(b.density > 0.0f))
+                r.fail("density", "must be positive, got " + std::to_string(b.density));
         } else {
             b.mass = r.number("mass", 0.0f);
             if (!(b.mass > 0.0f)) r.fail("mass", "must be positive, got " + std::to_string(b.mass));

@@ -1,4 +1,4 @@
-// VTK XML writers (include/pbf/vtk.hpp): the XML header names every array
+// VTK XML writers (include/pbf/io/vtk.hpp): the XML header names every array
 // and its offset into one raw <AppendedData> block, where each array is its
 // UInt64 byte count followed by its little-endian bytes. Arrays are produced
 // in chunks straight into the stream, so a frame never exists twice in memory.
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "pbf/io.hpp"
-#include "pbf/vtk.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/vtk.hpp"
 
 namespace pbf::vtk {
 namespace {

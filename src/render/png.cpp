@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 #include "pbf/render/headless.hpp"
 
 namespace pbf::render {

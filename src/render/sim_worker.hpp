@@ -16,8 +16,8 @@
 #include <thread>
 #include <vector>
 
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::render {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pbf/triangle_mesh.hpp"
+#include "pbf/geometry/triangle_mesh.hpp"
 
 namespace pbf::render {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "pbf/io.hpp"
-#include "pbf/process.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/process.hpp"
 
 namespace pbf::render {
 

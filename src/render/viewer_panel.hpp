@@ -2,7 +2,7 @@
 // statistics and the colour bar.
 #pragma once
 
-#include "pbf/params.hpp"
+#include "pbf/core/params.hpp"
 #include "pbf/render/renderer.hpp"
 #include "sim_worker.hpp"
 

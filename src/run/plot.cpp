@@ -1,11 +1,11 @@
-#include "pbf/plot.hpp"
+#include "pbf/run/plot.hpp"
 
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <system_error>
 
-#include "pbf/process.hpp"
+#include "pbf/io/process.hpp"
 
 namespace pbf::plot {
 namespace {

@@ -1,4 +1,4 @@
-#include "pbf/run.hpp"
+#include "pbf/run/run.hpp"
 
 #include <fmt/format.h>
 
@@ -14,11 +14,11 @@ std::string statsCsvHeader() {
 std::string statsCsvRow(const FrameReport& r) {
     const double perStep = r.substeps > 0 ? 1.0 / r.substeps : 0.0;
     return fmt::format(
-        "{},{:.6f},{},{},{:.2f},{:.4f},{:.6e},{:.6e},{:.6e},{},{},{:.5f},{:.4f},{:.4f},{:.4f}", r.frame,
-        r.time, r.state.particles, r.substeps, r.iterations, r.stepMs, r.state.averageDensityError,
-        r.state.maxDensityError, r.state.kineticEnergy, r.state.escaped, r.state.insideSolid,
-        r.state.maxSpeed, r.stageMs.neighborSearch * perStep, r.stageMs.solve * perStep,
-        (r.stageMs.predict + r.stageMs.postProcess) * perStep);
+        "{},{:.6f},{},{},{:.2f},{:.4f},{:.6e},{:.6e},{:.6e},{},{},{:.5f},{:.4f},{:.4f},{:.4f}",
+        r.frame, r.time, r.state.particles, r.substeps, r.iterations, r.stepMs,
+        r.state.averageDensityError, r.state.maxDensityError, r.state.kineticEnergy,
+        r.state.escaped, r.state.insideSolid, r.state.maxSpeed, r.stageMs.neighborSearch * perStep,
+        r.stageMs.solve * perStep, (r.stageMs.predict + r.stageMs.postProcess) * perStep);
 }
 
 std::string bodiesCsvHeader() {

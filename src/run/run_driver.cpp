@@ -8,11 +8,11 @@
 #include <sstream>
 #include <system_error>
 
-#include "pbf/distributed.hpp"
-#include "pbf/io.hpp"
-#include "pbf/state_guard.hpp"
-#include "pbf/version.hpp"
-#include "pbf/vtk.hpp"
+#include "pbf/core/distributed.hpp"
+#include "pbf/core/state_guard.hpp"
+#include "pbf/core/version.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/vtk.hpp"
 
 namespace pbf::detail {
 namespace {

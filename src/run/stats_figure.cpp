@@ -4,7 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "pbf/run.hpp"
+#include "pbf/run/run.hpp"
 
 namespace pbf {
 namespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "pbf/run.hpp"
+#include "pbf/run/run.hpp"
 
 namespace pbf {
 namespace {

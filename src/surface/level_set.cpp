@@ -17,7 +17,7 @@
 
 #include "anisotropic_grid.hpp"
 #include "openvdb_particles.hpp"
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 #include "pbf/surface/surface.hpp"
 
 namespace pbf::surface {

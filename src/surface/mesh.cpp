@@ -9,8 +9,8 @@
 #include <string>
 #include <unordered_map>
 
-#include "pbf/io.hpp"
-#include "pbf/vtk.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/vtk.hpp"
 
 namespace pbf::surface {
 namespace {

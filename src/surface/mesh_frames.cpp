@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "pbf/io.hpp"
-#include "pbf/vtk.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/vtk.hpp"
 
 namespace pbf::surface {
 namespace {

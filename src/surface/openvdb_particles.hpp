@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <span>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::surface::detail {
 

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::surface::detail {
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "pbf/io.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf::surface::detail {
 

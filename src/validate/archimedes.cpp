@@ -16,7 +16,7 @@
 #include <array>
 #include <cmath>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {

@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {

@@ -20,7 +20,7 @@
 #include <cmath>
 #include <limits>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/martin_moyce_data.hpp"
 #include "validate/measure.hpp"
 

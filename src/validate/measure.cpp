@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "pbf/solids.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::validation::detail {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "pbf/validate.hpp"
-#include "pbf/world.hpp"
+#include "pbf/validate/validate.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::validation::detail {
 
@@ -36,7 +36,7 @@ plot::Series record(CaseResult& result, const std::string& series, const std::st
 // The largest substep (s) that lets a tank of particles of this radius come
 // to rest: PBF's residual velocity noise comes from each step's gravity push
 // g dt^2 that 4 Jacobi iterations do not remove entirely
-// (include/pbf/params.hpp); it must stay a small share of the spacing. The
+// (include/pbf/core/params.hpp); it must stay a small share of the spacing. The
 // default cap of 1/240 s keeps g dt^2 below 0.9 % of a 2 cm spacing; finer
 // spacings get the same share (measured: 5 mm spacing at 1/240 s boils at
 // 0.06 m/s median speed).

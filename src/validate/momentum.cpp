@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {

@@ -1,6 +1,6 @@
-// The cases of `pbf validate`, in the order they run (include/pbf/validate.hpp).
+// The cases of `pbf validate`, in the order they run (include/pbf/validate/validate.hpp).
 // A case is one function returning a Case; add it to the list below.
-#include "pbf/validate.hpp"
+#include "pbf/validate/validate.hpp"
 
 namespace pbf::validation {
 

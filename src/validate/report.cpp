@@ -5,9 +5,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "pbf/io.hpp"
-#include "pbf/validate.hpp"
-#include "pbf/version.hpp"
+#include "pbf/core/version.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/validate/validate.hpp"
 
 namespace pbf::validation {
 namespace {

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {

@@ -1,4 +1,4 @@
-#include "pbf/emitter.hpp"
+#include "pbf/world/emitter.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 #include <fmt/format.h>
 
@@ -8,8 +8,8 @@
 #include <exception>
 #include <utility>
 
-#include "pbf/param_table.hpp"
-#include "world/rigid_bodies.hpp"
+#include "bodies/rigid_bodies.hpp"
+#include "pbf/core/param_table.hpp"
 
 namespace pbf {
 
@@ -23,9 +23,12 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
         if (!device.usable)
             throw std::runtime_error("device " + std::string(backendName(options.backend)) + ": " +
                                      device.description);
-        const std::size_t limit = options.backendOptions.deviceMemoryBytes;
-        checkDeviceMemory(def_, options.backend, device.description,
-                          limit > 0 ? limit : device.freeBytes);
+        // A device in host memory (cuda-on-cpu) has what the machine has.
+        std::size_t limit = options.backendOptions.deviceMemoryBytes;
+        if (limit == 0)
+            limit = options.backend == BackendKind::CudaOnCpu ? availableMemoryBytes()
+                                                              : device.freeBytes;
+        if (limit > 0) checkDeviceMemory(def_, options.backend, device.description, limit);
     }
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(def_, available);

@@ -1,6 +1,6 @@
 // Validation of a world definition and what is built from it: the solids and
 // the fluid blocks' particles.
-#include "pbf/world_def.hpp"
+#include "pbf/world/world_def.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -9,8 +9,6 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include "pbf/scene.hpp"
 
 namespace pbf {
 namespace {
@@ -315,6 +313,19 @@ std::size_t availableMemoryBytes() {
     const long pages = ::sysconf(_SC_AVPHYS_PAGES);
     const long pageSize = ::sysconf(_SC_PAGESIZE);
     return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
+}
+
+double speedLimit(const WorldDef& def) {
+    if (def.guard.maxSpeed > 0.0f) return def.guard.maxSpeed;
+    const SimulationParams& sim = def.simulation;
+    const double diagonal = length(sim.domain.extent());
+    double reference = std::sqrt(2.0 * double(length(sim.gravity)) * diagonal);
+    double blockSpeed = 0.0;
+    for (const FluidBlock& b : def.fluidBlocks)
+        blockSpeed = std::max(blockSpeed, double(length(b.velocity)));
+    reference += blockSpeed;
+    if (!(reference > 0.0)) reference = diagonal * def.fps;
+    return double(def.guard.maxSpeedFactor) * reference;
 }
 
 }  // namespace pbf

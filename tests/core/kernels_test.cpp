@@ -1,5 +1,5 @@
 // Kernel properties: normalisation, gradient vs finite differences, symmetry.
-#include "pbf/kernels.hpp"
+#include "pbf/core/kernels.hpp"
 
 #include <gtest/gtest.h>
 

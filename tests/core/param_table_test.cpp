@@ -1,6 +1,6 @@
 // The parameter table drives scene reading, validation and the docs: each
 // test walks every row, so a row that one of them forgets fails here.
-#include "pbf/param_table.hpp"
+#include "pbf/core/param_table.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 #include "support/test_util.hpp"
 
 namespace {

@@ -19,7 +19,7 @@
 #include "backend/mpi/particle_record.hpp"
 #include "io/binary_stream.hpp"
 #include "io/checkpoint_particles.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 #ifndef PBF_TEST_EXTRA_FIELDS
 #error "built with the extra fields only (tests/CMakeLists.txt: pbf_particle_fields_tests)"
@@ -148,8 +148,8 @@ TEST(ParticleFields, MpiRecordsCarryEveryField) {
 }  // namespace
 
 #if defined(PBF_HAVE_DEVICE_FIELDS_TEST)
-#include "pbf/backend.hpp"
-#include "pbf/solver_constants.hpp"
+#include "pbf/backend/backend.hpp"
+#include "pbf/core/solver_constants.hpp"
 
 namespace pbf::gpu::on_cpu_fields_test {
 std::unique_ptr<pbf::Backend> makeBackend(const pbf::SimulationParams& params);

@@ -1,6 +1,6 @@
 // Checkpoints: a run resumed from a checkpoint writes the same bytes as one
 // that was never interrupted; damaged or foreign checkpoints are refused.
-#include "pbf/checkpoint.hpp"
+#include "pbf/io/checkpoint.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pbf/io.hpp"
-#include "pbf/run.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/run/run.hpp"
+#include "pbf/world/world.hpp"
 #include "support/reliability_util.hpp"
 
 namespace {

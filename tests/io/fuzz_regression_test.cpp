@@ -16,7 +16,7 @@
 #include <string>
 
 #include "fuzz_targets.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 #include "support/reliability_util.hpp"
 
 namespace {
@@ -70,7 +70,8 @@ int replay(const std::string& dir, const Harness& harness) {
         EXPECT_NO_THROW(outcome = harness(fileBytes(entry.path()))) << key;
         const auto it = expected.find(key);
         if (it == expected.end()) {
-            ADD_FAILURE() << "no expected outcome for " << key << " in tests/data/fuzz/expected.txt; "
+            ADD_FAILURE() << "no expected outcome for " << key
+                          << " in tests/data/fuzz/expected.txt; "
                           << "it was " << (outcome.accepted ? "accepted" : "refused: ")
                           << outcome.message;
             continue;
@@ -86,8 +87,8 @@ int replay(const std::string& dir, const Harness& harness) {
 }
 
 TEST(FuzzRegression, SceneInputs) {
-    EXPECT_GE(replay("tests/data/fuzz/scene", [](std::string_view t) { return pbf::fuzz::scene(t); }),
-              1);
+    EXPECT_GE(
+        replay("tests/data/fuzz/scene", [](std::string_view t) { return pbf::fuzz::scene(t); }), 1);
 }
 
 // The seeds of the scene fuzzer are the shipped scenes: every one loads and
@@ -115,9 +116,9 @@ TEST(FuzzRegression, PlyInputs) {
 }
 
 TEST(FuzzRegression, CheckpointInputs) {
-    EXPECT_EQ(
-        replay("fuzz/corpus/checkpoint", [](std::string_view t) { return pbf::fuzz::checkpoint(t); }),
-        1);
+    EXPECT_EQ(replay("fuzz/corpus/checkpoint",
+                     [](std::string_view t) { return pbf::fuzz::checkpoint(t); }),
+              1);
 }
 
 // Deep nesting overflowed the stack when an error message or the scene

@@ -1,6 +1,6 @@
 // Scene loading: shipped scenes load; every kind of bad input is refused with
 // an error that names the file and the field.
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 
 #include <gtest/gtest.h>
 

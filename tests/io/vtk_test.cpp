@@ -1,7 +1,7 @@
-// VTK XML files and .pvd collections (include/pbf/vtk.hpp), read back here by
+// VTK XML files and .pvd collections (include/pbf/io/vtk.hpp), read back here by
 // a parser of the test's own; tests/clients/paraview_test.py opens the same
 // files in ParaView.
-#include "pbf/vtk.hpp"
+#include "pbf/io/vtk.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -24,9 +24,9 @@
 #include <string>
 #include <vector>
 
-#include "pbf/io.hpp"
-#include "pbf/run.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/run/run.hpp"
 #include "support/test_util.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-"""The plotting path (scripts/pbf_plot.py, include/pbf/plot.hpp): the plot of
+"""The plotting path (scripts/pbf_plot.py, include/pbf/run/plot.hpp): the plot of
 a run shows stats.csv's numbers, the script draws exactly the data it is
 given, and says what to install when matplotlib is missing.
 

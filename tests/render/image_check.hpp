@@ -9,9 +9,9 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "pbf/core/vec3.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/headless.hpp"
-#include "pbf/vec3.hpp"
 
 namespace pbf::render::image_check {
 

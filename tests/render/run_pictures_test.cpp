@@ -13,12 +13,12 @@
 #include <sstream>
 #include <string>
 
-#include "pbf/io.hpp"
-#include "pbf/process.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/process.hpp"
+#include "pbf/io/scene.hpp"
 #include "pbf/render/frame_images.hpp"
 #include "pbf/render/solid_mesh.hpp"
-#include "pbf/run.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/run/run.hpp"
 #include "render/image_check.hpp"
 
 namespace pbf::render {

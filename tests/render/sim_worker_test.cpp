@@ -7,7 +7,7 @@
 #include <chrono>
 #include <thread>
 
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 #include "support/test_util.hpp"
 
 namespace pbf::render {

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <limits>
 
-#include "pbf/io.hpp"
-#include "pbf/run.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/run/run.hpp"
 #include "support/reliability_util.hpp"
 
 namespace {

@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::test {
 

@@ -8,8 +8,8 @@
 #include <iterator>
 #include <string>
 
-#include "pbf/scene.hpp"
-#include "pbf/threading.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/scene.hpp"
 #include "support/test_util.hpp"
 
 namespace pbf::test {

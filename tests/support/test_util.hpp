@@ -1,12 +1,12 @@
 // Helpers shared by the tests.
 #pragma once
 
-#include <string>
-
 #include <gtest/gtest.h>
 
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include <string>
+
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::test {
 

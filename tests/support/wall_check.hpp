@@ -13,15 +13,15 @@
 #include <string>
 #include <vector>
 
-#include "pbf/particles.hpp"
-#include "pbf/params.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace pbf::test {
 
 struct WallLayers {
-    double worstFill = 0.0;      // particles on a wall / what one rest layer holds, worst wall
-    std::string worstWall;       // "x min", ...
-    double closestPair = 1e30;   // smallest distance between two particles on a wall, m
+    double worstFill = 0.0;     // particles on a wall / what one rest layer holds, worst wall
+    std::string worstWall;      // "x min", ...
+    double closestPair = 1e30;  // smallest distance between two particles on a wall, m
 };
 
 inline WallLayers wallLayers(const ParticleStore& p, const SimulationParams& params) {

@@ -15,14 +15,14 @@
 #include <numbers>
 #include <random>
 
-#include "pbf/io.hpp"
-#include "pbf/run.hpp"
-#include "pbf/scene.hpp"
+#include "pbf/io/io.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/run/run.hpp"
 #include "pbf/surface/anisotropic.hpp"
 #include "pbf/surface/diffuse.hpp"
 #include "pbf/surface/mesh_frames.hpp"
 #include "pbf/surface/vdb_points.hpp"
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 #include "support/test_util.hpp"
 
 namespace {

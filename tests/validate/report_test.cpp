@@ -10,7 +10,7 @@
 #include <limits>
 #include <sstream>
 
-#include "pbf/validate.hpp"
+#include "pbf/validate/validate.hpp"
 
 namespace pbf::validation {
 namespace {

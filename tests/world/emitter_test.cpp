@@ -1,12 +1,12 @@
 // Emitters: the particle count follows the configured rate.
-#include "pbf/emitter.hpp"
+#include "pbf/world/emitter.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 #include "support/test_util.hpp"
 
 namespace {

@@ -6,9 +6,9 @@
 #include <cstdio>
 #include <random>
 
-#include "pbf/scene.hpp"
-#include "pbf/statistics.hpp"
-#include "pbf/world.hpp"
+#include "pbf/backend/statistics.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 #include "support/test_util.hpp"
 #include "support/wall_check.hpp"
 
@@ -67,7 +67,7 @@ struct Settled {
     double initialHeight = 0.0;
     double finalHeight = 0.0;
     double finalMedianSpeed = 0.0;
-    double finalSpeed99 = 0.0;  // 99th percentile
+    double finalSpeed99 = 0.0;    // 99th percentile
     pbf::test::WallLayers walls;  // at the end
 };
 
@@ -107,9 +107,10 @@ Settled settleTank(double seconds) {
 
 TEST(Physics, RestingTankKeepsVolumeAndComesToRest) {
     const Settled s = settleTank(3.0);
-    std::printf("resting tank: fullest wall layer %.3f of one lattice layer (%s), closest pair "
-                "on a wall %.4f m\n",
-                s.walls.worstFill, s.walls.worstWall.c_str(), s.walls.closestPair);
+    std::printf(
+        "resting tank: fullest wall layer %.3f of one lattice layer (%s), closest pair "
+        "on a wall %.4f m\n",
+        s.walls.worstFill, s.walls.worstWall.c_str(), s.walls.closestPair);
     // Nothing pressed into the walls: the floor holds its one lattice layer
     // (measured 1.009, closest pair 0.83 spacings). Checked that this can
     // fail: without the walls' density term the floor layer holds 1.41 and
@@ -203,9 +204,10 @@ TEST(Physics, DamBreakNeverExplodesAndNothingIsPressedIntoTheWalls) {
         worstFill = std::max(worstFill, walls.worstFill);
         closestPair = std::min(closestPair, walls.closestPair);
     }
-    std::printf("dam break: fullest wall layer %.3f of one lattice layer, closest pair on a wall "
-                "%.4f m\n",
-                worstFill, closestPair);
+    std::printf(
+        "dam break: fullest wall layer %.3f of one lattice layer, closest pair on a wall "
+        "%.4f m\n",
+        worstFill, closestPair);
     // The impact presses water against the far wall, but never more than
     // one lattice layer's worth onto it, and never stacked (measured 0.95 and
     // 0.46 spacings; without the walls' density term 1.33 and 0.22, with

@@ -1,12 +1,12 @@
 // pbf::World: definitions built in code, live settings, particles read and
 // written by id, particles added at run time, errors as values.
-#include "pbf/world.hpp"
+#include "pbf/world/world.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "pbf/scene.hpp"
+#include "pbf/io/scene.hpp"
 #include "support/reliability_util.hpp"
 #include "support/test_util.hpp"
 
@@ -47,8 +47,9 @@ TEST(World, InvalidDefinitionsNameTheField) {
         pbf::World world(outside);
         FAIL() << "a block outside the domain was accepted";
     } catch (const pbf::SceneError& e) {
-        EXPECT_NE(std::string(e.what()).find("tank: fluid_blocks[0].min: the block must lie inside"),
-                  std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("tank: fluid_blocks[0].min: the block must lie inside"),
+            std::string::npos)
             << e.what();
     }
     pbf::WorldDef badEmitter = tank();

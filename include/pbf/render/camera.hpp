@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::render {
 

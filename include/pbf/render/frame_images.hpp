@@ -6,9 +6,9 @@
 #include <memory>
 #include <string>
 
+#include "pbf/io/scene.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/renderer.hpp"
-#include "pbf/scene.hpp"
 
 namespace pbf::render {
 

@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "pbf/io.hpp"
-#include "pbf/params.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/io/io.hpp"
 #include "pbf/render/camera.hpp"
 
 namespace pbf::render {

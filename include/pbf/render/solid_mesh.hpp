@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "pbf/pose.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/geometry/pose.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 
 namespace pbf::render {
 

@@ -7,10 +7,10 @@
 #include <optional>
 #include <string>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
+#include "pbf/io/scene.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/renderer.hpp"
-#include "pbf/scene.hpp"
 
 namespace pbf::render {
 

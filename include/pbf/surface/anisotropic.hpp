@@ -32,8 +32,8 @@
 #include <span>
 #include <vector>
 
+#include "pbf/core/vec3.hpp"
 #include "pbf/surface/surface.hpp"
-#include "pbf/vec3.hpp"
 
 namespace pbf::surface {
 

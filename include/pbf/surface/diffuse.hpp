@@ -32,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "pbf/io.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf::surface {
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::surface {
 

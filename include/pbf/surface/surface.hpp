@@ -31,8 +31,8 @@
 #include <string>
 #include <string_view>
 
+#include "pbf/core/vec3.hpp"
 #include "pbf/surface/mesh.hpp"
-#include "pbf/vec3.hpp"
 
 namespace pbf::surface {
 

@@ -10,8 +10,8 @@
 
 #include <filesystem>
 
-#include "pbf/io.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/io/io.hpp"
 
 namespace pbf::surface {
 

@@ -8,8 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "pbf/config.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::grid {
 

@@ -12,11 +12,11 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "backend/boundary.hpp"
 #include "backend/cpu/simd-inl.h"
-#include "core/boundary.hpp"
-#include "core/iteration_control.hpp"
-#include "core/reactions.hpp"
 #include "backend/cpu/solver_stages.hpp"
+#include "backend/reactions.hpp"
+#include "core/iteration_control.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace pbf::stages::HWY_NAMESPACE {
@@ -144,7 +144,8 @@ struct DensityPass {
     PairConstants k;
     float gradScale;  // grad C = m/rho0 grad W
     float spiky;
-    std::int64_t* compression;  // sum of C_i over the range, fixed point (core/iteration_control.hpp)
+    std::int64_t*
+        compression;  // sum of C_i over the range, fixed point (core/iteration_control.hpp)
 };
 
 template <bool Wide>
@@ -196,8 +197,9 @@ struct DensityParticle {
 };
 
 std::int64_t DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                        const NeighborSearch& search, const PackedPoint* predicted, float* density,
-                        PackedPoint* withLambda, std::size_t begin, std::size_t end) {
+                              const NeighborSearch& search, const PackedPoint* predicted,
+                              float* density, PackedPoint* withLambda, std::size_t begin,
+                              std::size_t end) {
     const float gradScale = c.particleMass * c.inverseRestDensity;
     std::int64_t compression = 0;
     forEachListBlock(search, begin, end,
@@ -294,7 +296,7 @@ struct CorrectionParticle {
             std::size_t touched = boundary::kNoSolid;
             moved = boundary::resolveSolidCollision(c, *p.solids, p.start.get(i), moved, &touched);
             // Two-way coupling: what a body's boundary did to particle i
-            // (core/reactions.hpp).
+            // (backend/reactions.hpp).
             if (p.reactions) {
                 p.reactions->add(i, solid.solid, x, solid.gradient * boundaryScale);
                 p.reactions->add(i, touched, moved, moved - unprojected);
@@ -325,22 +327,21 @@ void CorrectPositions(const SolverConstants& c, const SolidSet* solids,
         &positionCorrectionRange<4>, &positionCorrectionRange<5>, &positionCorrectionRange<6>,
         &positionCorrectionRange<7>, &positionCorrectionRange<8>};
     const Range range = kByExponent[std::clamp(c.scorrExponent, 1, 8) - 1];
-    forEachListBlock(search, begin, end,
-                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
-                         const CorrectionPass pass{
-                             c,
-                             solids,
-                             reactions,
-                             search,
-                             start,
-                             withLambda,
-                             withLambda + block.base,
-                             corrected,
-                             pairConstants(c.h, c.poly6.h2),
-                             hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
-                             hn::Set(d, c.scorrScale)};
-                         range(pass, first, last);
-                     });
+    forEachListBlock(
+        search, begin, end, [&](std::size_t first, std::size_t last, const NeighborList& block) {
+            const CorrectionPass pass{c,
+                                      solids,
+                                      reactions,
+                                      search,
+                                      start,
+                                      withLambda,
+                                      withLambda + block.base,
+                                      corrected,
+                                      pairConstants(c.h, c.poly6.h2),
+                                      hn::Set(d, c.poly6.coefficient * c.scorrInverseWdq),
+                                      hn::Set(d, c.scorrScale)};
+            range(pass, first, last);
+        });
 }
 
 // [begin, end) lies in one neighbour-list block.
@@ -403,17 +404,15 @@ void ViscosityAndVorticity(const SolverConstants& c, float viscosity, const Neig
                            const PackedPoint* predicted, const PackedPoint* velocityDensity,
                            Float3Array* vorticity, Float3Array& velocity, std::size_t begin,
                            std::size_t end) {
-    forEachListBlock(search, begin, end,
-                     [&](std::size_t first, std::size_t last, const NeighborList& block) {
-                         if (block.wide)
-                             viscosityAndVorticityRange<true>(c, viscosity, search, predicted,
-                                                              velocityDensity, vorticity, velocity,
-                                                              first, last);
-                         else
-                             viscosityAndVorticityRange<false>(c, viscosity, search, predicted,
-                                                               velocityDensity, vorticity,
-                                                               velocity, first, last);
-                     });
+    forEachListBlock(
+        search, begin, end, [&](std::size_t first, std::size_t last, const NeighborList& block) {
+            if (block.wide)
+                viscosityAndVorticityRange<true>(c, viscosity, search, predicted, velocityDensity,
+                                                 vorticity, velocity, first, last);
+            else
+                viscosityAndVorticityRange<false>(c, viscosity, search, predicted, velocityDensity,
+                                                  vorticity, velocity, first, last);
+        });
 }
 
 }  // namespace pbf::stages::HWY_NAMESPACE
@@ -427,11 +426,11 @@ HWY_EXPORT(CorrectPositions);
 HWY_EXPORT(ViscosityAndVorticity);
 
 std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                               const NeighborSearch& search, const PackedPoint* predicted,
-                               float* density, PackedPoint* withLambda, std::size_t begin,
-                               std::size_t end) {
-    return HWY_DYNAMIC_DISPATCH(DensityAndLambda)
-    (c, solids, search, predicted, density, withLambda, begin, end);
+                                     const NeighborSearch& search, const PackedPoint* predicted,
+                                     float* density, PackedPoint* withLambda, std::size_t begin,
+                                     std::size_t end) {
+    return HWY_DYNAMIC_DISPATCH(DensityAndLambda)(c, solids, search, predicted, density, withLambda,
+                                                  begin, end);
 }
 
 void correctPositions(const SolverConstants& c, const SolidSet* solids,

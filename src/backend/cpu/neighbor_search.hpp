@@ -24,8 +24,8 @@
 #include <vector>
 
 #include "core/grid_limits.hpp"
-#include "pbf/particles.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf {
 

@@ -19,11 +19,11 @@
 #include <vector>
 
 #include "backend/cpu/neighbor_search.hpp"
+#include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
 #include "core/iteration_control.hpp"
-#include "core/reactions.hpp"
-#include "pbf/backend.hpp"
-#include "pbf/particles.hpp"
+#include "pbf/backend/backend.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace pbf {
 
@@ -79,7 +79,7 @@ class Solver {
 
     // Advances the particles by dt seconds; stage times go to `times`. With
     // `reactions` (reset for this step; null when no solid is coupled) the
-    // coupled solids' boundary moves are recorded (core/reactions.hpp).
+    // coupled solids' boundary moves are recorded (backend/reactions.hpp).
     void step(const SolverContext& context, ParticleStore& particles, float dt, StageTimes& times,
               ReactionAccumulator* reactions = nullptr);
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backend/boundary.hpp"
 #include "backend/reference/equations.hpp"
-#include "core/boundary.hpp"
 
 namespace pbf::stages {
 using boundary::clampToBox;

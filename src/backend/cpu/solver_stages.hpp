@@ -10,10 +10,10 @@
 
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver.hpp"
-#include "core/reactions.hpp"
-#include "pbf/particles.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
+#include "backend/reactions.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::stages {
 
@@ -58,7 +58,7 @@ std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* s
 // `withLambda`). `start` (x at the start of the step) is where the sweep
 // against solids begins. With `reactions` (may be null) the moves that the
 // coupled solids' boundary terms and projections give each particle are
-// recorded (core/reactions.hpp); [begin, end) must then lie in one block of
+// recorded (backend/reactions.hpp); [begin, end) must then lie in one block of
 // detail::kBlockSize.
 void correctPositions(const SolverConstants& c, const SolidSet* solids,
                       ReactionAccumulator* reactions, const NeighborSearch& search,

@@ -8,7 +8,6 @@
 #define PBF_DEVICE_NAMESPACE on_cpu
 #define PBF_DEVICE_OPENMP 1
 #include "backend/gpu/device_backend_impl.hpp"
-#include "pbf/world_def.hpp"
 
 namespace pbf::gpu::on_cpu {
 
@@ -16,7 +15,7 @@ DeviceStatus status() {
     DeviceStatus s;
     s.built = true;
     s.usable = true;
-    s.freeBytes = availableMemoryBytes();
+    s.freeBytes = 0;  // host memory: the World asks the machine
     s.description = "the GPU backend's source on the CPU (Thrust " +
                     std::to_string(THRUST_MAJOR_VERSION) + "." +
                     std::to_string(THRUST_MINOR_VERSION) + ", OpenMP, " +

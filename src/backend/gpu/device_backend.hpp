@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf::gpu {
 
@@ -24,7 +24,7 @@ struct DeviceStatus {
     bool built = false;         // compiled into this program
     bool usable = false;        // and a device is there to run on
     std::string description;    // the device ("NVIDIA H100 80GB HBM3, 79.1 GiB free"), or why not
-    std::size_t freeBytes = 0;  // device memory free now (host memory for on_cpu)
+    std::size_t freeBytes = 0;  // device memory free now (0 for on_cpu: host memory)
 };
 
 // Tests (tests/backend/gpu/device_stages_test.cpp): the kernels of one step

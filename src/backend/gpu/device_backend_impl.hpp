@@ -15,7 +15,7 @@
 //   correct_positions (Jacobi)                                 l. 8-19
 //   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
 //   vorticity_confinement, boundary_response (x = x*)          l. 20-24
-// The particle fields come from the one list (include/pbf/particle_fields.hpp):
+// The particle fields come from the one list (include/pbf/core/particle_fields.hpp):
 // DeviceParticles has a member per field, and upload, download, append and
 // the reorder visit them through it.
 // Reductions (largest speed, first bad particle, statistics, the coupled
@@ -54,12 +54,12 @@
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
+#include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
-#include "core/reactions.hpp"
-#include "pbf/particle_fields.hpp"
-#include "pbf/particles.hpp"
-#include "pbf/threading.hpp"
-#include "world/boundary_scale.hpp"
+#include "geometry/boundary_scale.hpp"
+#include "pbf/core/particle_fields.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/core/threading.hpp"
 
 #if !defined(PBF_DEVICE_NAMESPACE) || !defined(PBF_DEVICE_KIND)
 #error "define PBF_DEVICE_NAMESPACE (on_gpu, on_cpu) and PBF_DEVICE_KIND before including this"
@@ -158,7 +158,7 @@ class ScratchAllocator {
     std::vector<Block> blocks_;
 };
 
-// A field of the list (include/pbf/particle_fields.hpp) in device memory:
+// A field of the list (include/pbf/core/particle_fields.hpp) in device memory:
 // three float arrays for a 3-vector, one array otherwise.
 template <class T, int Components>
 using DeviceFieldArray = std::conditional_t<Components == 3, DeviceFloat3, DeviceArray<T>>;

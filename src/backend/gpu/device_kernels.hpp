@@ -3,7 +3,7 @@
 // thrust::for_each over a counting range. They hold raw pointers into
 // device memory and call the reference backend's equations and neighbour
 // sums (backend/reference/equations.hpp, neighbor_sums.hpp) and the shared
-// boundary terms (core/boundary.hpp) on the device's solids
+// boundary terms (backend/boundary.hpp) on the device's solids
 // (device_solids.hpp): the maths the CPU build of this code is tested with
 // is the maths the GPU runs.
 //
@@ -15,17 +15,17 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "backend/boundary.hpp"
 #include "backend/cpu/grid_stencil.hpp"
 #include "backend/gpu/device_solids.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_sums.hpp"
 #include "core/blocks.hpp"
-#include "core/boundary.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
-#include "pbf/config.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
 
@@ -91,7 +91,7 @@ struct SolidsArgument {
     PBF_HD const DeviceSolids* get() const { return present ? &solids : nullptr; }
 };
 
-// One slot of reaction records (core/reactions.hpp): which solid moved
+// One slot of reaction records (backend/reactions.hpp): which solid moved
 // particle i, where, and by how much. Written for every particle by a
 // recording stage (kNoSolid32 where none did), then folded into per-block
 // sums (FoldReactions). Null `solid`: the stage records nothing.

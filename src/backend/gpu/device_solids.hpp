@@ -1,7 +1,7 @@
 // The solids as the GPU backend's kernels see them (private header): plain
 // data in device memory, with the same queries as the host's SolidSet
-// (include/pbf/solids.hpp), so that core/boundary.hpp's templates run on
-// either. Analytic shapes are evaluated exactly (world/shape_distance.hpp,
+// (include/pbf/geometry/solids.hpp), so that backend/boundary.hpp's templates run on
+// either. Analytic shapes are evaluated exactly (geometry/shape_distance.hpp,
 // the functions the host's Solid classes call); meshes and any other shape
 // by trilinear interpolation of their distance field sampled on a grid in
 // their own frame (Solid::shapeData: a mesh gives its level set's voxels,
@@ -18,10 +18,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "pbf/config.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/vec3.hpp"
-#include "world/shape_distance.hpp"
+#include "geometry/shape_distance.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
 

@@ -15,7 +15,7 @@
 
 #include "backend/cpu/solver.hpp"
 #include "backend/mpi/slab_halo.hpp"
-#include "core/reactions.hpp"
+#include "backend/reactions.hpp"
 
 namespace pbf {
 namespace {
@@ -283,17 +283,17 @@ class MpiBackend final : public Backend {
                                                        halo_.exchange(s.withLambda);
                                                        halo_.exchange(s.particles.density.data());
                                                    }});
-        plan.insertAfter(Stage::CompressionTotals,
-                         {Stage::SumCompression,
-                          [this](SolverStep& s) { halo_.sum(s.compression, 2); },
-                          [](const SolverStep& s) { return s.control.errorControlled(); }});
-        plan.insertAfter(Stage::CorrectPositions,
-                         {Stage::ExchangePositions,
-                          [this](SolverStep& s) { halo_.exchange(s.predicted); }});
-        plan.insertAfter(Stage::ViscosityAndVorticity,
-                         {Stage::ExchangeVorticity,
-                          [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
-                          [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
+        plan.insertAfter(
+            Stage::CompressionTotals,
+            {Stage::SumCompression, [this](SolverStep& s) { halo_.sum(s.compression, 2); },
+             [](const SolverStep& s) { return s.control.errorControlled(); }});
+        plan.insertAfter(Stage::CorrectPositions, {Stage::ExchangePositions, [this](SolverStep& s) {
+                                                       halo_.exchange(s.predicted);
+                                                   }});
+        plan.insertAfter(
+            Stage::ViscosityAndVorticity,
+            {Stage::ExchangeVorticity, [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
+             [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
         // End of the step: the ghosts are dropped.
         plan.insertAfter(Stage::BoundaryResponse,
                          {Stage::Collect, [this](SolverStep& s) { halo_.collect(s.particles); }});

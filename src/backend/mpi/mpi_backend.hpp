@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf {
 

@@ -1,5 +1,5 @@
 // One particle in transit between MPI ranks (private header): every field of
-// the particle list (pbf/particle_fields.hpp) and the particle's key, as one
+// the particle list (pbf/core/particle_fields.hpp) and the particle's key, as one
 // trivially copyable record that MPI moves as bytes. Generated from the list,
 // so a field added there travels with migrations, ghosts, gathers and
 // scatters without a change here.
@@ -9,13 +9,12 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace pbf {
 
 struct ParticleRecord {
-#define PBF_RECORD_MEMBER(name, type, components, unit, kind, description) \
-    type name[components];
+#define PBF_RECORD_MEMBER(name, type, components, unit, kind, description) type name[components];
     PBF_PARTICLE_FIELDS(PBF_RECORD_MEMBER)
 #undef PBF_RECORD_MEMBER
     // The particle's place in the one-process memory order (slab_halo.hpp).

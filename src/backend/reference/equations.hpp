@@ -14,14 +14,14 @@
 //   C_i = rho_i/rho0 - 1 with rho_i a mass density).
 //   The kernels return 0 outside their support (r >= h): a pair that moved
 //   apart since the neighbour search adds nothing.
-//   The walls and solids (core/boundary.hpp) act as the rest lattice
+//   The walls and solids (backend/boundary.hpp) act as the rest lattice
 //   continued beyond their surface: they add a kernel sum (1/m^3) to the
 //   density and its gradient (1/m^4) to grad_i C_i, and carry no lambda.
 #pragma once
 
-#include "pbf/config.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::reference {
 

@@ -14,7 +14,7 @@
 #include <span>
 #include <vector>
 
-#include "pbf/vec3.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::reference {
 

@@ -4,7 +4,7 @@
 // backend the sorted grid's stencil (backend/gpu). Each function evaluates
 // one quantity for particle i from the terms of equations.hpp, in the
 // plainest order: neighbours in the order visited, then the self term, then
-// the walls and solids (core/boundary.hpp).
+// the walls and solids (backend/boundary.hpp).
 //
 // `neighbors(visit)` calls visit(j) for every neighbour j of particle i (j
 // != i); the state is read through accessors x(j) (positions), lambda(j),
@@ -14,11 +14,11 @@
 
 #include <cstdint>
 
+#include "backend/boundary.hpp"
 #include "backend/reference/equations.hpp"
-#include "core/boundary.hpp"
-#include "pbf/config.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
 
 namespace pbf::reference {
 
@@ -27,7 +27,7 @@ struct DensityAndLambda {
     float lambda = 0.0f;   // lambda_i, eq. 11
 };
 
-// The walls' and solids' kernel sum and its gradient at x (core/boundary.hpp).
+// The walls' and solids' kernel sum and its gradient at x (backend/boundary.hpp).
 struct BoundaryTerms {
     float kernelSum = 0.0f;
     Vec3 gradient;

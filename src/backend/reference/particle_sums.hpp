@@ -9,9 +9,9 @@
 #include <span>
 
 #include "backend/reference/neighbor_sums.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::reference {
 

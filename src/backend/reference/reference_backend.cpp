@@ -8,7 +8,7 @@
 //   wall response  restitution and friction on the walls and solids
 //   commit         x = x*                                               (l. 23)
 // and, when a solid is coupled (a rigid body), the reaction of everything
-// its boundary did to the particles (core/reactions.hpp).
+// its boundary did to the particles (backend/reactions.hpp).
 // Each stage is a loop over all particles that writes only entry i and
 // reads the previous stage's arrays (Jacobi), so the result does not depend
 // on the order of the particles within a loop.
@@ -18,9 +18,9 @@
 #include <chrono>
 #include <limits>
 
+#include "backend/boundary.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/particle_sums.hpp"
-#include "core/boundary.hpp"
 #include "core/iteration_control.hpp"
 
 namespace pbf {
@@ -80,7 +80,7 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
 
     // Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the
     // sweep against the solids starts from x (no step tunnels through them).
-    // Two-way coupling (core/reactions.hpp): every move a coupled solid's
+    // Two-way coupling (backend/reactions.hpp): every move a coupled solid's
     // boundary gives a particle is recorded; its reaction acts on the body.
     reactions_.reset(n, solids);
     ReactionAccumulator* reactions = reactions_.active() ? &reactions_ : nullptr;

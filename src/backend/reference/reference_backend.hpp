@@ -4,7 +4,7 @@
 // (tests/backend/reference/) and the readable version of Algorithm 1.
 //
 // Same stages in the same order as the CPU backend (backend/cpu/solver.cpp),
-// with the same boundary terms (core/boundary.hpp), but serial, without
+// with the same boundary terms (backend/boundary.hpp), but serial, without
 // reordering the particles, with its own neighbour search
 // (neighbor_grid.hpp) and the particles as arrays of Vec3.
 #pragma once

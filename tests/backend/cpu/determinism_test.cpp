@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "pbf/scene.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/world.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 #include "support/test_util.hpp"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "pbf/particles.hpp"
+#include "pbf/core/particles.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "backend/gpu/device_backend.hpp"
-#include "pbf/backend.hpp"
+#include "pbf/backend/backend.hpp"
 
 namespace pbf::test {
 

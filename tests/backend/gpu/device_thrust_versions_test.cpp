@@ -11,9 +11,9 @@
 #include <memory>
 
 #include "backend/gpu/device_backend.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/world_def.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world_def.hpp"
 #include "support/drift_check.hpp"
 
 #if defined(PBF_HAVE_THRUST117_BUILD)

@@ -18,12 +18,12 @@
 
 #include "backend/gpu/device_test_util.hpp"
 #include "core/particle_checks.hpp"
-#include "pbf/checkpoint.hpp"
-#include "pbf/scene.hpp"
-#include "pbf/state_guard.hpp"
-#include "pbf/statistics.hpp"
-#include "pbf/threading.hpp"
-#include "pbf/world.hpp"
+#include "pbf/backend/statistics.hpp"
+#include "pbf/core/state_guard.hpp"
+#include "pbf/core/threading.hpp"
+#include "pbf/io/checkpoint.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 #include "support/drift_check.hpp"
 #include "support/test_util.hpp"
 

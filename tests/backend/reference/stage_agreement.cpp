@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <random>
 
+#include "backend/boundary.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/error_bound.hpp"
 #include "backend/reference/neighbor_grid.hpp"
 #include "backend/reference/particle_sums.hpp"
-#include "core/boundary.hpp"
 
 namespace pbf::test {
 namespace {

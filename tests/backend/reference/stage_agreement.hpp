@@ -8,7 +8,7 @@
 //
 // Both implementations compute the same formulas from the same float inputs
 // (x*, x, the shared constants of SolverConstants, the walls' and solids'
-// terms from core/boundary.hpp), in different orders: the SIMD code sums by
+// terms from backend/boundary.hpp), in different orders: the SIMD code sums by
 // lanes and tree sums, applies the kernels' coefficients after the sum, and
 // gets 1/r from a hardware estimate refined by one Newton step; the
 // reference sums in list order with the coefficients in every term and
@@ -80,10 +80,10 @@
 #include <string>
 #include <vector>
 
-#include "pbf/params.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
-#include "pbf/vec3.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::test {
 

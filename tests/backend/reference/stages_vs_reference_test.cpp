@@ -14,8 +14,8 @@
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver_stages.hpp"
 #include "backend/reference/stage_agreement.hpp"
-#include "pbf/solids.hpp"
-#include "pbf/solver_constants.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/geometry/solids.hpp"
 
 namespace pbf::test {
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "pbf/scene.hpp"
-#include "pbf/world.hpp"
+#include "pbf/io/scene.hpp"
+#include "pbf/world/world.hpp"
 #include "support/drift_check.hpp"
 #include "support/test_util.hpp"
 

@@ -1,0 +1,209 @@
+// pbf::World: one simulation — its definition, its live settings, its state
+// and the one frame loop that advances it.
+//
+//   pbf::WorldDef def;                        // or: pbf::loadScene("scenes/dam_break.json")
+//   def.simulation.domain = {{0, 0, 0}, {1, 1, 1}};
+//   def.fluidBlocks.push_back({{{0, 0, 0}, {0.3f, 0.5f, 1}}});
+//   pbf::World world(def);
+//   pbf::FrameResult r = world.stepFrame();   // 1 / fps simulated seconds
+//   if (!r.ok()) std::cerr << r.error->message;
+//
+// stepFrame() is the only place where solver steps are driven: it chooses
+// the substeps (CFL-limited or fixed), runs the emitters, asks the backend
+// to step, and runs the state guard after every substep. Failures come back
+// as values (FrameResult::error), so no exception crosses a thread: the CLI,
+// the viewer's simulation thread and Python report them the same way.
+//
+// The particles live in the backend (include/pbf/backend/backend.hpp); the World
+// reads them through the backend's reductions and downloads them only when
+// asked (particles(), arraysById()).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pbf/backend/backend.hpp"
+#include "pbf/backend/statistics.hpp"
+#include "pbf/bodies/rigid_body.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/state_guard.hpp"
+#include "pbf/geometry/solids.hpp"
+#include "pbf/world/emitter.hpp"
+#include "pbf/world/world_def.hpp"
+
+namespace pbf {
+
+namespace detail {
+class RigidBodies;
+}
+
+struct FrameReport {
+    int frame = 0;      // frames completed
+    double time = 0.0;  // simulated seconds
+    int substeps = 0;   // solver steps taken in this frame
+    // Density iterations (corrections) per substep the solver ran, averaged
+    // over the frame's substeps (counted in its loop: with
+    // solver.max_density_error it varies).
+    double iterations = 0.0;
+    double stepMs = 0.0;  // average wall-clock ms per substep in this frame
+    StageTimes stageMs;   // summed over the frame's substeps
+    StateStatistics state;
+};
+
+// Why a frame could not be completed.
+struct StepError {
+    enum class Kind {
+        BadState,  // the state guard fired: NaN / infinite values or a speed over the limit
+        Failure,   // anything else (out of memory, ...)
+    };
+    Kind kind = Kind::Failure;
+    std::string message;  // whole sentence: frame, substep, stage, particle id, problem
+    int frame = 0;        // frame being computed (1-based, as in frame_NNNNN.ply)
+    int substep = 0;      // substep within it (1-based; 0: before the first)
+    std::string stage;    // where the check ran, e.g. "after solver step"
+    std::optional<BadParticle> particle;
+};
+
+struct FrameResult {
+    FrameReport report;              // valid when ok()
+    std::optional<StepError> error;  // the world is left as the failing substep made it
+    bool ok() const { return !error.has_value(); }
+};
+
+// Everything that changes while a world runs: enough to continue it
+// bit-identically (a checkpoint).
+struct WorldState {
+    ParticleStore particles;             // the backend's memory order
+    std::vector<EmitterState> emitters;  // one per emitter of the definition
+    std::vector<RigidBodyState> bodies;  // one per rigid body of the definition
+    int frame = 0;
+    double time = 0.0;
+};
+
+// Particle attributes in host memory in id order (entry k is the particle
+// with id k): what scripting reads and writes. Buffers are shared so that
+// views of them (numpy arrays) stay valid when the World replaces them
+// after the particle count changed.
+struct ParticleArrays {
+    std::size_t count = 0;
+    std::shared_ptr<std::vector<float>> position;    // 3 per particle, m
+    std::shared_ptr<std::vector<float>> velocity;    // 3 per particle, m/s
+    std::shared_ptr<std::vector<float>> density;     // kg/m^3 (read only)
+    std::shared_ptr<std::vector<std::uint32_t>> id;  // id[k] == k (read only)
+};
+
+struct WorldOptions {
+    BackendKind backend = BackendKind::Cpu;
+    BackendOptions backendOptions;
+};
+
+class World {
+  public:
+    // Builds the solids (loading meshes) and fills the fluid blocks. Throws
+    // SceneError for an invalid definition and SceneError naming the
+    // file and field for a broken mesh.
+    explicit World(const WorldDef& def, const WorldOptions& options = {});
+    ~World();
+    World(World&&) noexcept;
+    World& operator=(World&&) noexcept;
+
+    const WorldDef& definition() const { return def_; }
+
+    // Live settings: the one copy of the parameters the solver runs with.
+    // applySettings validates (SceneError naming the field, nothing
+    // changed) and takes effect at the next step; the domain, particle
+    // radius and kernel radius factor belong to the definition and cannot change.
+    const SimulationParams& settings() const { return settings_; }
+    void applySettings(const SimulationParams& settings);
+
+    // Simulates one output frame (1 / fps seconds).
+    FrameResult stepFrame();
+    // Statistics of the current state (a reduction in the backend).
+    FrameReport report() const;
+
+    int frame() const { return frame_; }
+    double time() const { return time_; }
+    double frameDuration() const { return 1.0 / def_.fps; }
+    std::size_t particleCount() const { return backend_->size(); }
+    // Lattice sites of the fluid blocks left empty because a solid was there.
+    std::size_t skippedParticles() const { return skipped_; }
+
+    // The particles in the backend's memory order (downloaded when they are
+    // not in host memory). Valid until the next step.
+    const ParticleStore& particles() const;
+    // The particles by id, for scripting; writes to position and velocity
+    // take effect at the next step. Valid (and kept up to date after every
+    // frame) until the particle count changes.
+    ParticleArrays& arraysById();
+    // Adds particles with the next free ids (densities start at rest density).
+    void addParticles(std::span<const Vec3> positions, std::span<const Vec3> velocities);
+
+    const SolidSet& solids() const { return *solids_; }
+    // Moves solid i between frames (kinematic: the fluid sees its pose and
+    // its velocity at contacts).
+    void setSolidMotion(std::size_t i, const SolidMotion& motion);
+    const std::vector<Emitter>& emitters() const { return emitters_; }
+
+    // Rigid bodies (definition().rigidBodies, in that order): what each is,
+    // its state, and the fluid's force and torque on it averaged over the
+    // last frame. A body's surface is solid bodyInfos()[i].solid of solids().
+    std::size_t bodyCount() const;
+    const std::vector<RigidBodyInfo>& bodyInfos() const;
+    const std::vector<RigidBodyState>& bodyStates() const;
+    const std::vector<RigidBodyLoad>& bodyLoads() const;
+    // Replaces body i's state between frames (scripting).
+    void setBodyState(std::size_t i, const RigidBodyState& state);
+
+    // Speed above which the state guard fails a frame (m/s; <= 0: no speed
+    // check). Defaults to speedLimit(definition()).
+    double speedLimit() const { return speedLimit_; }
+    void setSpeedLimit(double metresPerSecond) { speedLimit_ = metresPerSecond; }
+
+    // The substep the adaptive mode takes now, given `remaining` seconds of
+    // the frame: min(max_time_step, cfl * spacing / speed), where speed is the
+    // largest particle or body-surface speed plus what gravity adds in one
+    // step, then evened out so that the frame ends on a whole number of
+    // equal substeps.
+    double adaptiveSubstep(double remaining) const;
+
+    // The state, for checkpoints; restoreState puts one back (particles in
+    // their memory order: the solver's stable sort depends on it, so
+    // resuming bit-identically needs the exact order).
+    WorldState captureState() const;
+    void restoreState(WorldState state);
+
+    const SolverConstants& constants() const { return constants_; }
+    const Backend& backend() const { return *backend_; }
+    Backend& backend() { return *backend_; }
+
+  private:
+    SolverContext context() const;
+    std::optional<StepError> checkState(int substep, double time, const char* stage) const;
+    void applyHostEdits();
+    void refreshArrays();
+    void indexSolids();
+
+    WorldDef def_;
+    SimulationParams settings_;
+    SolverConstants constants_;
+    std::unique_ptr<SolidSet> solids_;
+    std::unique_ptr<detail::RigidBodies> bodies_;
+    std::unique_ptr<Backend> backend_;
+    std::vector<Emitter> emitters_;
+    std::size_t skipped_ = 0;
+    int frame_ = 0;
+    double time_ = 0.0;
+    double speedLimit_ = 0.0;
+    mutable ParticleStore downloaded_;  // particles() for backends without host state
+    mutable bool downloadedValid_ = false;
+    std::unique_ptr<ParticleArrays> arrays_;  // exists once arraysById() was called
+};
+
+}  // namespace pbf

@@ -1,0 +1,153 @@
+// The definition of a simulation: plain data with documented defaults, in
+// the spirit of Box2D's b2WorldDef. Build one in code (fluid blocks, solids,
+// emitters, parameters) or load a scene file (pbf::loadScene gives a Scene,
+// a WorldDef with output settings), then construct a pbf::World from it.
+// The definition is immutable once the World exists; what may change while
+// it runs (iterations, CFL, viscosity, ...) are the World's live settings.
+//
+// Units are SI (metres, seconds, kilograms); every field's range is in
+// docs/scenes.md. validate() reports the first invalid field by the name it
+// has in scene files.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pbf/backend/backend.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/core/particles.hpp"
+#include "pbf/core/vec3.hpp"
+#include "pbf/geometry/pose.hpp"
+#include "pbf/geometry/solids.hpp"
+
+namespace pbf {
+
+// An invalid scene or world definition, an invalid live setting or a broken
+// mesh: the message names the file (when there is one) and the field, e.g.
+// "scenes/x.json: solver.iterations: must be in [1, 100], got 0".
+class SceneError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+// A box of water filled with particles on a cubic lattice of spacing 2 r.
+struct FluidBlock {
+    Aabb box;
+    Vec3 velocity;  // initial velocity, m/s
+};
+
+// A static solid object (docs/scenes.md, "solids"). Analytic shapes are
+// given in world coordinates (identity pose); a mesh's rotation and
+// translation are its pose (Transform::pose), its scale is baked into the
+// distance field.
+struct SolidDescription {
+    enum class Kind { Box, Sphere, Plane, Cylinder, Mesh };
+    Kind kind = Kind::Box;
+    Aabb box;                     // box
+    Vec3 center;                  // sphere
+    float radius = 0.0f;          // sphere, cylinder
+    Vec3 point, normal{0, 1, 0};  // plane
+    Vec3 base, axis{0, 1, 0};     // cylinder
+    float height = 0.0f;          // cylinder
+    std::string file;             // mesh: path of an OBJ file
+    Transform transform;          // mesh
+    std::string field;            // "solids[2]", for messages (set by validate if empty)
+};
+
+// A rigid body (docs/scenes.md, "rigid_bodies"): a solid shape that moves,
+// pushed by the fluid (the reaction of the boundary's corrections: buoyancy
+// and drag come out of the solver) and by gravity, colliding with other
+// bodies, the solids and the domain walls through Bullet. Box, sphere and
+// cylinder are given in world coordinates as solids are; `shape.transform`
+// places a mesh (scale, rotation, translation) and its rotation also turns a
+// box about its centre. Exactly one of density and mass is given (> 0).
+struct RigidBodyDescription {
+    SolidDescription shape;    // Box, Sphere, Cylinder or Mesh (a closed mesh)
+    float density = 0.0f;      // kg/m^3, (0, 1e5]; 0: use mass
+    float mass = 0.0f;         // kg, (0, 1e9]; 0: use density
+    Vec3 velocity;             // initial velocity of the centre of mass, m/s
+    Vec3 angularVelocity;      // initial angular velocity, rad/s (world axes)
+    float friction = 0.5f;     // Coulomb coefficient in contacts, [0, 10]
+    float restitution = 0.0f;  // share of the normal speed kept in contacts, [0, 1]
+    std::string field;         // "rigid_bodies[0]", for messages (set by validate if empty)
+};
+
+// A nozzle pouring water: discs of particles (lattice spacing 2 r, within
+// `radius` of the axis) leave `position` along `direction` at `speed`, one
+// disc per 2 r travelled, between `start` and `end` seconds or until
+// `maxParticles` have been emitted.
+struct EmitterDescription {
+    Vec3 position;
+    Vec3 direction{0, -1, 0};
+    float radius = 0.05f;          // m, [particle radius, domain size]
+    float speed = 1.0f;            // m/s, (0, 100]
+    float start = 0.0f;            // s, >= 0
+    float end = 1e30f;             // s, > start
+    std::size_t maxParticles = 0;  // 0: no budget, only the time window
+    std::string field;             // "emitters[0]", for messages
+};
+
+// The state guard (include/pbf/core/state_guard.hpp): a frame fails when a
+// particle is faster than max_speed (m/s) or, when max_speed is 0, than
+// max_speed_factor times the free-fall speed over the domain diagonal.
+struct GuardParams {
+    float maxSpeed = 0.0f;         // m/s, [0, 1e6]; 0: automatic
+    float maxSpeedFactor = 10.0f;  // [1, 1e4]
+};
+
+struct WorldDef {
+    std::string name = "world";
+    // Domain, gravity, particle radius, fluid and solver parameters. The
+    // fluid and solver fields (and gravity) are the initial live settings.
+    SimulationParams simulation;
+    std::vector<FluidBlock> fluidBlocks;
+    std::vector<SolidDescription> solids;
+    std::vector<RigidBodyDescription> rigidBodies;
+    std::vector<EmitterDescription> emitters;
+    float fps = 30.0f;  // frames per simulated second: World::stepFrame advances 1 / fps, (0, 1e4]
+    GuardParams guard;
+    std::string source;  // the file it came from (for messages); empty when built in code
+};
+
+// Empty when valid, else "field: problem" for the first invalid field
+// (field names as in scene files, e.g. "fluid_blocks[1].min").
+std::string validate(const WorldDef& def);
+
+// Number of particles the fluid blocks create (before solids remove any).
+// Throws SceneError beyond the 32-bit particle index.
+std::size_t countParticles(const WorldDef& def);
+
+// Builds the solids (loads meshes), each placed by its pose. Throws
+// SceneError naming the file and field for a broken mesh.
+std::unique_ptr<SolidSet> buildSolids(const WorldDef& def);
+// Fills the fluid blocks with particles (lattice of spacing 2 r, ids in block
+// order), leaving out lattice sites closer than one radius to a solid; their
+// number goes to `skipped` if given.
+ParticleStore createParticles(const WorldDef& def, const SolidSet* solids = nullptr,
+                              std::size_t* skipped = nullptr);
+
+// Refuses definitions whose particles would not fit in `availableBytes` of
+// memory (the bytes per particle the solver needs times the count); throws
+// SceneError naming the fluid blocks.
+void checkMemory(const WorldDef& def, std::size_t availableBytes);
+// The same for the GPU backend on `device` (include/pbf/backend/backend.hpp:
+// deviceBytesPerParticle, the cell table), with `availableBytes` free on it;
+// the message names the device (`description`, e.g. the GPU's name).
+void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::string& description,
+                       std::size_t availableBytes);
+// Memory the machine can give now (MemAvailable), bytes; 0 when unknown.
+std::size_t availableMemoryBytes();
+std::size_t estimatedBytesPerParticle(const SimulationParams& params);
+
+// The speed limit of a world, m/s: guard.max_speed when set (> 0), else
+// guard.max_speed_factor * v_ref with v_ref = sqrt(2 |g| D) + the fastest
+// initial block velocity, D the domain diagonal: a particle falling freely
+// across the whole domain reaches sqrt(2 |g| D), so anything many times
+// faster is a blow-up. Without gravity and initial motion, v_ref is the speed
+// that crosses the domain in one frame.
+double speedLimit(const WorldDef& def);
+
+}  // namespace pbf
