@@ -36,8 +36,8 @@ Quat rotationFromY(const Vec3& axis) {
     return normalised(Quat{1.0f + c, v.x, v.y, v.z});
 }
 
-std::string scenePrefix(const WorldDef& def) {
-    return (def.source.empty() ? def.name : def.source) + ": ";
+std::string scenePrefix(const BodiesSetup& def) {
+    return def.source + ": ";
 }
 
 std::string fieldOf(const std::string& given, const char* list, std::size_t i) {
@@ -59,7 +59,7 @@ MeshSolidOptions meshOptions(const SimulationParams& sim) {
 }
 
 // A static solid as Bullet sees it.
-StaticCollider staticCollider(const WorldDef& def, const SolidDescription& d,
+StaticCollider staticCollider(const BodiesSetup& def, const SolidDescription& d,
                               const std::string& field) {
     StaticCollider s;
     s.field = field;
@@ -128,7 +128,8 @@ struct BuiltBody {
     BodyCollider collider;
 };
 
-BuiltBody buildBody(const WorldDef& def, const RigidBodyDescription& b, const std::string& field) {
+BuiltBody buildBody(const BodiesSetup& def, const RigidBodyDescription& b,
+                    const std::string& field) {
     const SolidDescription& d = b.shape;
     BuiltBody out;
     RigidBodyInfo& info = out.info;
@@ -239,8 +240,8 @@ BuiltBody buildBody(const WorldDef& def, const RigidBodyDescription& b, const st
 
 }  // namespace
 
-RigidBodies::RigidBodies(const WorldDef& def, SolidSet& solids) {
-    if (def.rigidBodies.empty()) return;
+RigidBodies::RigidBodies(const BodiesSetup& def, SolidSet& solids) {
+    if (def.bodies.empty()) return;
     std::vector<StaticCollider> statics;
     for (std::size_t i = 0; i < def.solids.size(); ++i)
         statics.push_back(
@@ -251,8 +252,8 @@ RigidBodies::RigidBodies(const WorldDef& def, SolidSet& solids) {
     // Bodies of the same shape share their boundary-density grid.
     std::map<std::string, std::shared_ptr<const BoundaryScale>> scales;
     const SolverConstants constants = SolverConstants::from(def.simulation);
-    for (std::size_t i = 0; i < def.rigidBodies.size(); ++i) {
-        const RigidBodyDescription& b = def.rigidBodies[i];
+    for (std::size_t i = 0; i < def.bodies.size(); ++i) {
+        const RigidBodyDescription& b = def.bodies[i];
         BuiltBody built = buildBody(def, b, fieldOf(b.field, "rigid_bodies", i));
         std::shared_ptr<const BoundaryScale>& scale = scales[built.info.describe];
         if (!scale)

@@ -25,16 +25,29 @@
 
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "pbf/backend/backend.hpp"
 #include "pbf/bodies/rigid_body.hpp"
+#include "pbf/core/errors.hpp"
+#include "pbf/core/params.hpp"
+#include "pbf/geometry/solid_description.hpp"
 #include "pbf/geometry/solids.hpp"
-#include "pbf/world/world_def.hpp"
 
 namespace pbf::detail {
 
 class ContactWorld;
+
+// What the bodies are built from: the bodies, the static solids they
+// collide with, the domain (walls) and particle radius, and the scene's name
+// for messages (a WorldDef provides them; the bodies do not know the World).
+struct BodiesSetup {
+    std::string source;  // "scenes/x.json" (or the world's name), for messages
+    const SimulationParams& simulation;
+    std::span<const SolidDescription> solids;
+    std::span<const RigidBodyDescription> bodies;
+};
 
 class RigidBodies {
   public:
@@ -42,7 +55,7 @@ class RigidBodies {
     // world. Throws SceneError naming the scene and field for a broken
     // mesh (unreadable, open, no volume) or bodies that overlap each other,
     // a solid or the domain walls at the start.
-    RigidBodies(const WorldDef& def, SolidSet& solids);
+    RigidBodies(const BodiesSetup& setup, SolidSet& solids);
     ~RigidBodies();
 
     std::size_t size() const { return infos_.size(); }

@@ -36,7 +36,10 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     constants_ = SolverConstants::from(settings_);
     solids_ = buildSolids(def_);
     // Bodies add their surfaces to the solids, so no particle starts inside one.
-    bodies_ = std::make_unique<detail::RigidBodies>(def_, *solids_);
+    bodies_ = std::make_unique<detail::RigidBodies>(
+        detail::BodiesSetup{def_.source.empty() ? def_.name : def_.source, def_.simulation,
+                            def_.solids, def_.rigidBodies},
+        *solids_);
     indexSolids();
     backend_ = makeBackend(options.backend, settings_, options.backendOptions);
     backend_->upload(createParticles(def_, solids_.get(), &skipped_));

@@ -17,62 +17,21 @@
 #include <vector>
 
 #include "pbf/backend/backend.hpp"
+#include "pbf/bodies/rigid_body.hpp"
+#include "pbf/core/errors.hpp"
 #include "pbf/core/params.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/vec3.hpp"
 #include "pbf/geometry/pose.hpp"
+#include "pbf/geometry/solid_description.hpp"
 #include "pbf/geometry/solids.hpp"
 
 namespace pbf {
-
-// An invalid scene or world definition, an invalid live setting or a broken
-// mesh: the message names the file (when there is one) and the field, e.g.
-// "scenes/x.json: solver.iterations: must be in [1, 100], got 0".
-class SceneError : public std::runtime_error {
-  public:
-    using std::runtime_error::runtime_error;
-};
 
 // A box of water filled with particles on a cubic lattice of spacing 2 r.
 struct FluidBlock {
     Aabb box;
     Vec3 velocity;  // initial velocity, m/s
-};
-
-// A static solid object (docs/scenes.md, "solids"). Analytic shapes are
-// given in world coordinates (identity pose); a mesh's rotation and
-// translation are its pose (Transform::pose), its scale is baked into the
-// distance field.
-struct SolidDescription {
-    enum class Kind { Box, Sphere, Plane, Cylinder, Mesh };
-    Kind kind = Kind::Box;
-    Aabb box;                     // box
-    Vec3 center;                  // sphere
-    float radius = 0.0f;          // sphere, cylinder
-    Vec3 point, normal{0, 1, 0};  // plane
-    Vec3 base, axis{0, 1, 0};     // cylinder
-    float height = 0.0f;          // cylinder
-    std::string file;             // mesh: path of an OBJ file
-    Transform transform;          // mesh
-    std::string field;            // "solids[2]", for messages (set by validate if empty)
-};
-
-// A rigid body (docs/scenes.md, "rigid_bodies"): a solid shape that moves,
-// pushed by the fluid (the reaction of the boundary's corrections: buoyancy
-// and drag come out of the solver) and by gravity, colliding with other
-// bodies, the solids and the domain walls through Bullet. Box, sphere and
-// cylinder are given in world coordinates as solids are; `shape.transform`
-// places a mesh (scale, rotation, translation) and its rotation also turns a
-// box about its centre. Exactly one of density and mass is given (> 0).
-struct RigidBodyDescription {
-    SolidDescription shape;    // Box, Sphere, Cylinder or Mesh (a closed mesh)
-    float density = 0.0f;      // kg/m^3, (0, 1e5]; 0: use mass
-    float mass = 0.0f;         // kg, (0, 1e9]; 0: use density
-    Vec3 velocity;             // initial velocity of the centre of mass, m/s
-    Vec3 angularVelocity;      // initial angular velocity, rad/s (world axes)
-    float friction = 0.5f;     // Coulomb coefficient in contacts, [0, 10]
-    float restitution = 0.0f;  // share of the normal speed kept in contacts, [0, 1]
-    std::string field;         // "rigid_bodies[0]", for messages (set by validate if empty)
 };
 
 // A nozzle pouring water: discs of particles (lattice spacing 2 r, within
