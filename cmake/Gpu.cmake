@@ -84,9 +84,11 @@ function(pbf_add_thrust_omp_source target source include_dir)
     list(APPEND options -isystem ${include_dir})
   endif()
   # Thrust binds references through null pointers in its OpenMP algorithms
-  # (NVIDIA/cccl#1645): UBSan's null check would stop every run.
+  # (NVIDIA/cccl#1645): UBSan's null check would stop every run. Thrust
+  # 1.17's trivial copy also passes null to memmove for empty ranges
+  # (thrust/system/detail/sequential/trivial_copy.h): nonnull-attribute.
   if(PBF_SANITIZE MATCHES "undefined")
-    list(APPEND options -fno-sanitize=null)
+    list(APPEND options -fno-sanitize=null,nonnull-attribute)
   endif()
   set_source_files_properties(${source} TARGET_DIRECTORY ${target} PROPERTIES
                               COMPILE_DEFINITIONS "THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP;${ARGN}"
