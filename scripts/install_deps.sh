@@ -26,6 +26,10 @@ packages=(
   paraview python3-paraview blender
   # distributed runs (PBF_MPI, docs/distributed.md): mpirun -np N pbf run ...
   libopenmpi-dev openmpi-bin
+  # the GPU backend's CPU build (cuda-on-cpu) where no CUDA toolkit is installed:
+  # Thrust 1.17 and CUB (with the toolkit, its CCCL is used and these are built
+  # against too, tests/backend/gpu/device_thrust_versions_test.cpp)
+  libthrust-dev libcub-dev
   # plots of `pbf plot`, `pbf run` and `pbf validate` (scripts/pbf_plot.py, run with /usr/bin/python3)
   python3-matplotlib
 )

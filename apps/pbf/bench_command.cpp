@@ -16,6 +16,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "pbf/core/distributed.hpp"
 #include "pbf/core/threading.hpp"
 #include "pbf/io/scene.hpp"
@@ -41,6 +42,7 @@ struct BenchResult {
     StageTimes perStep;
     double stepMs = 0.0;
     double bytesPerParticle = 0.0;
+    double memoryMiB = 0.0;  // the backend's particle state and scratch (device memory on a GPU)
     double neighborsPerParticle = 0.0;
     double compactListShare = 0.0;  // blocks with 16-bit lists, of all
 };
@@ -85,7 +87,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     scene.rigidBodies = benchBodies(args.bodies);
 
     WorldOptions options;
-    options.backend = parseBackendKind(args.device);
+    options.backend = selectDevice(args.device);
     if (distributed::size() > 1) {
         if (options.backend != BackendKind::Cpu)
             throw SceneError("--device " + args.device +
@@ -108,6 +110,7 @@ BenchResult benchOneSize(const Scene& base, std::size_t target, const BenchArgum
     result.stepMs = distributed::maxOverRanks(result.perStep.total);
     const BackendDiagnostics d = world.backend().diagnostics();
     result.bytesPerParticle = double(d.memoryBytes) / double(result.particles);
+    result.memoryMiB = double(d.memoryBytes) / double(1 << 20);
     result.neighborsPerParticle = d.neighborsPerParticle;
     result.compactListShare = d.compactListShare;
     return result;
@@ -152,11 +155,14 @@ int runBench(const BenchArguments& args) {
             args.scene, args.device, iterations, args.steps, args.warmup, threadCount(),
             args.bodies, ranks);
     if (writer)
+        fmt::print("pbf bench: device {}: {}\n", args.device,
+                   deviceInfo(parseBackendKind(args.device)).description);
+    if (writer)
         fmt::print(
             "{:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>13} {:>6} {:>6} "
-            "{:>8}\n",
+            "{:>8} {:>8}\n",
             "particles", "step_ms", "predict", "grid", "reorder", "lists", "lambda", "delta-p",
-            "post", "bodies", "particle-st/s", "nbrs", "B/part", "exch_ms");
+            "post", "bodies", "particle-st/s", "nbrs", "B/part", "MiB", "exch_ms");
     std::vector<std::string> machineLines;
     for (const std::size_t size : args.sizes) {
         const BenchResult r = benchOneSize(base, size, args);
@@ -166,21 +172,22 @@ int runBench(const BenchArguments& args) {
         fmt::print(
             "{:>9} {:>9.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} {:>8.2f} "
             "{:>8.2f} "
-            "{:>13.3e} {:>6.1f} {:>6.0f} {:>8.2f}\n",
+            "{:>13.3e} {:>6.1f} {:>6.0f} {:>8.1f} {:>8.2f}\n",
             r.particles, r.stepMs, t.predict, t.gridBuild, t.reorder, t.neighborLists, t.lambda,
             t.deltaP, t.postProcess, t.bodies, rate, r.neighborsPerParticle, r.bytesPerParticle,
-            t.exchange);
+            r.memoryMiB, t.exchange);
         machineLines.push_back(fmt::format(
             "pbf-bench: particles={} steps={} iterations={:.2f} threads={} device={} "
             "step_ms={:.3f} "
             "particle_steps_per_s={:.0f} predict_ms={:.3f} neighbor_ms={:.3f} "
             "solve_ms={:.3f} post_ms={:.3f} grid_ms={:.3f} reorder_ms={:.3f} "
             "lists_ms={:.3f} lambda_ms={:.3f} deltap_ms={:.3f} bodies={} bodies_ms={:.3f} "
-            "bytes_per_particle={:.0f} compact_lists={:.2f} ranks={} exchange_ms={:.3f}",
+            "bytes_per_particle={:.0f} memory_mib={:.1f} compact_lists={:.2f} ranks={} "
+            "exchange_ms={:.3f}",
             r.particles, args.steps, t.iterations, threadCount(), args.device, r.stepMs, rate,
             t.predict, t.neighborSearch, t.solve, t.postProcess, t.gridBuild, t.reorder,
             t.neighborLists, t.lambda, t.deltaP, args.bodies, t.bodies, r.bytesPerParticle,
-            r.compactListShare, ranks, t.exchange));
+            r.memoryMiB, r.compactListShare, ranks, t.exchange));
     }
     if (writer)
         for (const std::string& line : machineLines) fmt::print("{}\n", line);
@@ -212,9 +219,7 @@ std::function<int()> addBenchCommand(CLI::App& app) {
                       "Override a scene field, e.g. --set fluid.viscosity=0.02 (as pbf run)");
     bench->add_option("-t,--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    bench->add_option("--device", args->device, "Backend: cpu (SIMD) or reference (scalar)")
-        ->check(CLI::IsMember({"cpu", "reference"}))
-        ->capture_default_str();
+    addDeviceOption(bench, args->device);
     bench
         ->add_option("--bodies", args->bodies,
                      "Rigid bodies (5 cm boxes, densities 500 and 1500) in the water column: "

@@ -6,8 +6,8 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "pbf/core/distributed.hpp"
-#include "pbf/core/version.hpp"
 
 namespace {
 
@@ -41,7 +41,9 @@ int main(int argc, char** argv) {
         return 1;
     }
     CLI::App app{"pbf: Position Based Fluids water simulator (Macklin & Mueller 2013)", "pbf"};
-    app.set_version_flag("--version", std::string("pbf ") + pbf::kVersion);
+    app.set_version_flag(
+        "--version", [] { return pbf::cli::versionText(); },
+        "Print the version and the devices built in, then exit");
     app.require_subcommand(1);
     const auto run = pbf::cli::addRunCommand(app);
     const auto bench = pbf::cli::addBenchCommand(app);

@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "pbf/core/threading.hpp"
 #include "pbf/io/io.hpp"
 #include "pbf/io/scene.hpp"
@@ -55,6 +56,7 @@ struct RenderArguments {
     int threads = 0;
     std::vector<std::string> overrides;
     bool quiet = false;
+    std::string device = "cpu";
 };
 
 Vec3 parseVec3(const std::string& option, const std::string& text) {
@@ -249,6 +251,7 @@ int runRender(const RenderArguments& args) {
         run.output.writeVtk = false;
         run.output.writeCheckpoints = false;
         RunOptions options;
+        options.world.backend = selectDevice(args.device);
         const render::SolidMesh& statics = solids;
         const std::vector<render::SolidMesh> bodyShapes = render::tessellateBodyShapes(scene);
         options.writeFrame = [&](int frame, const World& world) {
@@ -380,6 +383,7 @@ std::function<int()> addRenderCommand(CLI::App& app) {
                     "Override a scene field, e.g. --set solver.iterations=8")
         ->take_all();
     cmd->add_flag("-q,--quiet", args->quiet, "No progress bar");
+    addDeviceOption(cmd, args->device);
     return [args] { return runRender(*args); };
 }
 

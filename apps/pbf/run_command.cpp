@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "mesh_job.hpp"
 #include "pbf/core/distributed.hpp"
 #include "pbf/core/threading.hpp"
@@ -111,7 +112,7 @@ int runScene(RunArguments args) {
                    scene.output.directory);
     ProgressBar progress("simulating", scene.output.frames, !args.quiet);
     RunOptions options;
-    options.world.backend = parseBackendKind(args.device);
+    options.world.backend = selectDevice(args.device);
     if (distributed::size() > 1) {
         if (options.world.backend != BackendKind::Cpu)
             throw SceneError("--device " + args.device +
@@ -268,10 +269,7 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--no-plot", args->noPlot,
                   "Do not plot the statistics into RUN_DIR/stats.png at the end (matplotlib)");
     run->add_flag("-q,--quiet", args->quiet, "No progress bar");
-    run->add_option("--device", args->device,
-                    "Backend: cpu (SIMD, the default) or reference (scalar, slow: for checking)")
-        ->check(CLI::IsMember({"cpu", "reference"}))
-        ->capture_default_str();
+    addDeviceOption(run, args->device);
     run->add_flag(
         "-r,--resume", args->resume,
         "Continue from the checkpoint in the output directory (same scene and --set overrides); "

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "console.hpp"
+#include "device_option.hpp"
 #include "pbf/core/threading.hpp"
 #include "pbf/io/scene.hpp"
 #include "pbf/render/viewer.hpp"
@@ -28,6 +29,7 @@ struct ViewArguments {
     bool paused = false;
     int threads = 0;
     std::vector<std::string> overrides;
+    std::string device = "cpu";
 };
 
 int runView(const ViewArguments& args) {
@@ -37,6 +39,7 @@ int runView(const ViewArguments& args) {
     std::vector<SceneOverride> overrides;
     for (const std::string& o : args.overrides) overrides.push_back(parseOverride(o));
     const Scene scene = loadScene(args.scene, overrides);
+    const BackendKind device = selectDevice(args.device);
     // One core stays free for the window: an oversubscribed OpenMP team
     // (simulation threads + the UI thread + llvmpipe's) waits at every barrier.
     setThreadCount(args.threads > 0 ? args.threads : std::max(1, hardwareThreadCount() - 1));
@@ -50,6 +53,7 @@ int runView(const ViewArguments& args) {
     options.paused = args.paused;
     options.screenshot = args.screenshot;
     options.frames = args.frames;
+    options.device = device;
     if (!args.screenshot.empty() && args.frames <= 0) options.frames = 1;
 
     const render::ViewerSummary s = render::runViewer(scene, options);
@@ -89,6 +93,7 @@ std::function<int()> addViewCommand(CLI::App& app) {
     cmd->add_option("-s,--set", args->overrides,
                     "Override a scene field, e.g. --set solver.iterations=8")
         ->take_all();
+    addDeviceOption(cmd, args->device);
     return [args] { return runView(*args); };
 }
 

@@ -84,16 +84,18 @@ void bindSnapshot(py::module_& m) {
         .def_readonly("index", &BodySnapshot::index)
         .def_property_readonly("field", [](const BodySnapshot& b) { return b.info.field; })
         .def_property_readonly("shape", [](const BodySnapshot& b) { return b.info.describe; })
-        .def_property_readonly("mass", [](const BodySnapshot& b) { return b.info.mass; }, "kg")
-        .def_property_readonly("volume", [](const BodySnapshot& b) { return b.info.volume; },
-                               "m^3")
-        .def_property_readonly("inertia", [](const BodySnapshot& b) { return b.info.inertia; },
-                               "principal moments, kg m^2")
-        .def_property_readonly("solid", [](const BodySnapshot& b) { return b.info.solid; },
-                               "index of its surface in world.solids")
         .def_property_readonly(
-            "position", [](const BodySnapshot& b) { return b.state.position; },
-            "centre of mass, m")
+            "mass", [](const BodySnapshot& b) { return b.info.mass; }, "kg")
+        .def_property_readonly(
+            "volume", [](const BodySnapshot& b) { return b.info.volume; }, "m^3")
+        .def_property_readonly(
+            "inertia", [](const BodySnapshot& b) { return b.info.inertia; },
+            "principal moments, kg m^2")
+        .def_property_readonly(
+            "solid", [](const BodySnapshot& b) { return b.info.solid; },
+            "index of its surface in world.solids")
+        .def_property_readonly(
+            "position", [](const BodySnapshot& b) { return b.state.position; }, "centre of mass, m")
         .def_property_readonly(
             "orientation", [](const BodySnapshot& b) { return quaternion(b.state.orientation); },
             "unit quaternion (w, x, y, z) of the principal axes")
@@ -130,7 +132,8 @@ void bindBodies(py::module_& m, py::class_<WorldHandle, std::shared_ptr<WorldHan
                 return h.locked([](World& w) {
                     std::vector<BodySnapshot> bodies;
                     for (std::size_t k = 0; k < w.bodyCount(); ++k)
-                        bodies.push_back({k, w.bodyInfos()[k], w.bodyStates()[k], w.bodyLoads()[k]});
+                        bodies.push_back(
+                            {k, w.bodyInfos()[k], w.bodyStates()[k], w.bodyLoads()[k]});
                     return bodies;
                 });
             },
@@ -147,7 +150,8 @@ void bindBodies(py::module_& m, py::class_<WorldHandle, std::shared_ptr<WorldHan
                     if (!position.is_none()) s.position = position.cast<Vec3>();
                     if (!orientation.is_none()) s.orientation = quaternionFrom(orientation);
                     if (!velocity.is_none()) s.velocity = velocity.cast<Vec3>();
-                    if (!angularVelocity.is_none()) s.angularVelocity = angularVelocity.cast<Vec3>();
+                    if (!angularVelocity.is_none())
+                        s.angularVelocity = angularVelocity.cast<Vec3>();
                     w.setBodyState(index, s);
                 });
             },

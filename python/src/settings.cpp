@@ -27,7 +27,8 @@ void apply(WorldHandle& handle, const ParamInfo& param, const py::handle& value)
 }
 
 py::object read(WorldHandle& handle, const ParamInfo& param) {
-    const ParamValue value = handle.locked([&](World& world) { return param.get(world.settings()); });
+    const ParamValue value =
+        handle.locked([&](World& world) { return param.get(world.settings()); });
     return paramToPython(value);
 }
 
@@ -60,7 +61,9 @@ void bindSettings(py::module_& m) {
         settings.def_property(
             std::string(p.attribute).c_str(),
             [param](const Settings& s) { return read(s.world(), *param); },
-            [param](const Settings& s, const py::handle& value) { apply(s.world(), *param, value); },
+            [param](const Settings& s, const py::handle& value) {
+                apply(s.world(), *param, value);
+            },
             (std::string(p.description) + " (" + std::string(p.path) +
              (p.live ? ")" : "; fixed while the world runs)"))
                 .c_str());

@@ -128,9 +128,11 @@ void bindWorldClass(py::module_& m) {
         "with the GIL released.");
     world
         .def(py::init(&makeWorld), py::arg("definition"), py::arg("device") = "cpu",
-             "A world from a WorldDef (or Scene); device \"cpu\" (SIMD, default) or "
-             "\"reference\" (scalar oracle, slow). Raises pbf.SceneError for an invalid "
-             "definition.")
+             "A world from a WorldDef (or Scene); device \"cpu\" (SIMD, default), "
+             "\"reference\" (scalar oracle, slow), \"cuda\" (NVIDIA GPU) or \"cuda-on-cpu\" "
+             "(the GPU backend's code on the CPU). Raises pbf.SceneError for an invalid "
+             "definition or one too large for the device, ValueError for an unknown device, "
+             "RuntimeError naming the device when it cannot run here.")
         .def_static(
             "from_scene",
             [](const py::handle& path, const py::handle& overrides, const std::string& device) {

@@ -44,15 +44,15 @@ def small_world(dam_break):
 
 
 def require_device(device):
-    """Skips when the library was built without `device` (the reference
-    backend is a placeholder until it lands; pbf.World raises then)."""
+    """Skips when `device` cannot run here (a build without it, or no GPU:
+    pbf.World raises RuntimeError "device cuda: ..." then), with the reason."""
     import pbf
 
     probe = pbf.WorldDef(name="probe")
     probe.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (0.1, 0.1, 0.1)))
     try:
         pbf.World(probe, device=device)
-    except ValueError as error:
-        if "not built yet" in str(error):
+    except RuntimeError as error:
+        if str(error).startswith(f"device {device}: "):
             pytest.skip(str(error))
         raise

@@ -38,7 +38,7 @@ def assert_same_bits(world, ply, frame):
         f"frame {frame}: density"
 
 
-@pytest.mark.parametrize("device", ["cpu", "reference"])
+@pytest.mark.parametrize("device", ["cpu", "reference", "cuda-on-cpu", "cuda"])
 def test_python_frames_equal_cli_frames(cli, dam_break, tmp_path, device):
     require_device(device)
     overrides = ["particle_radius=0.02"]

@@ -60,3 +60,4 @@ def test_nan_written_from_python_is_caught(small_world):
     with pytest.raises(pbf.StateError, match="particle id 5 .*position is not finite") as error:
         small_world.step_frame()
     assert error.value.particle_id == 5 and error.value.substep == 0
+

@@ -97,7 +97,7 @@ def test_device_choice(dam_break):
 
 
 def test_unknown_device_is_refused(dam_break):
-    with pytest.raises(ValueError, match='device: must be cpu or reference, got "gpu"'):
+    with pytest.raises(ValueError, match='device: must be cpu, reference, cuda or cuda-on-cpu, got "gpu"'):
         pbf.World.from_scene(dam_break, device="gpu")
 
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "backend/cpu/cpu_backend.hpp"
+#include "backend/gpu/device_backend.hpp"
 #include "backend/mpi/mpi_backend.hpp"
 #include "backend/reference/reference_backend.hpp"
 
@@ -18,15 +19,63 @@ std::string_view backendName(BackendKind kind) {
             return "reference";
         case BackendKind::Mpi:
             return "mpi";
+        case BackendKind::Cuda:
+            return "cuda";
+        case BackendKind::CudaOnCpu:
+            return "cuda-on-cpu";
     }
     return "unknown";
 }
 
+std::vector<BackendKind> deviceKinds() {
+    return {BackendKind::Cpu, BackendKind::Reference, BackendKind::Cuda, BackendKind::CudaOnCpu};
+}
+
 BackendKind parseBackendKind(std::string_view name) {
-    for (BackendKind kind : {BackendKind::Cpu, BackendKind::Reference})
+    for (BackendKind kind : deviceKinds())
         if (name == backendName(kind)) return kind;
-    throw std::invalid_argument("device: must be cpu or reference, got \"" + std::string(name) +
-                                "\"");
+    throw std::invalid_argument("device: must be cpu, reference, cuda or cuda-on-cpu, got \"" +
+                                std::string(name) + "\"");
+}
+
+DeviceInfo deviceInfo(BackendKind kind) {
+    DeviceInfo info;
+    info.kind = kind;
+    gpu::DeviceStatus s;
+    switch (kind) {
+        case BackendKind::Cuda:
+            s = gpu::on_gpu::status();
+            break;
+        case BackendKind::CudaOnCpu:
+            s = gpu::on_cpu::status();
+            break;
+        case BackendKind::Mpi:
+#if defined(PBF_HAVE_MPI)
+            s = {true, true, "the cpu solver on one slab per MPI rank (mpirun -np N)", 0};
+#else
+            s = {false, false, "this pbf was built without MPI", 0};
+#endif
+            break;
+        case BackendKind::Cpu:
+            s = {true, true, "SIMD (Highway), OpenMP", 0};
+            break;
+        case BackendKind::Reference:
+            s = {true, true, "scalar, one function per equation (the test oracle)", 0};
+            break;
+    }
+    info.built = s.built;
+    info.usable = s.usable;
+    info.description = s.description;
+    info.freeBytes = s.freeBytes;
+    return info;
+}
+
+std::size_t deviceBytesPerParticle(const SimulationParams& params, bool rigidBodies) {
+    return gpu::bytesPerParticle(params, rigidBodies);
+}
+
+std::size_t deviceCellTableBytes(const SimulationParams& params) {
+    return gpu::cellTableBytes(params);
 }
 
 std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& params,
@@ -38,6 +87,10 @@ std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& p
             return makeReferenceBackend(params);
         case BackendKind::Mpi:
             return makeMpiBackend(params, options);
+        case BackendKind::Cuda:
+            return gpu::on_gpu::makeBackend(params, options);
+        case BackendKind::CudaOnCpu:
+            return gpu::on_cpu::makeBackend(params, options);
     }
     throw std::invalid_argument("makeBackend: unknown backend kind");
 }

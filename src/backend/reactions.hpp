@@ -29,6 +29,15 @@
 
 namespace pbf {
 
+// The reaction of a step from the sums of its moves (d, metres) and their
+// moments ((x - o) x d, m^2): F = -(m / dt^2) sum d, torque likewise.
+// `sums` = {sum dx, dy, dz, sum mx, my, mz}.
+inline SolidReaction reactionFromSums(const double sums[6], float particleMass, float dt) {
+    const double scale = -double(particleMass) / (double(dt) * double(dt));
+    return {{float(scale * sums[0]), float(scale * sums[1]), float(scale * sums[2])},
+            {float(scale * sums[3]), float(scale * sums[4]), float(scale * sums[5])}};
+}
+
 class ReactionAccumulator {
   public:
     // Zeroed sums for `particles` particles and the solids of `solids`
@@ -77,7 +86,6 @@ class ReactionAccumulator {
     void forces(float particleMass, float dt, std::vector<SolidReaction>& out) const {
         out.assign(active_ ? solidCount_ : 0, SolidReaction{});
         if (!active_) return;
-        const double scale = -double(particleMass) / (double(dt) * double(dt));
         for (std::size_t k = 0; k < solidCount_; ++k) {
             Sum total;
             for (std::size_t b = 0; b * solidCount_ < sums_.size(); ++b) {
@@ -89,10 +97,8 @@ class ReactionAccumulator {
                 total.my += s.my;
                 total.mz += s.mz;
             }
-            out[k].force = {float(scale * total.dx), float(scale * total.dy),
-                            float(scale * total.dz)};
-            out[k].torque = {float(scale * total.mx), float(scale * total.my),
-                             float(scale * total.mz)};
+            const double sums[6] = {total.dx, total.dy, total.dz, total.mx, total.my, total.mz};
+            out[k] = reactionFromSums(sums, particleMass, dt);
         }
     }
 

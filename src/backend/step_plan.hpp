@@ -57,10 +57,15 @@ enum class Stage {
     Count
 };
 
+// A member of StageTimes. (Through an alias: nvcc writes a plain
+// `double StageTimes::*phase` back out with parentheses, which the host
+// compiler's -Wparentheses rejects.)
+using StageTimesField = double StageTimes::*;
+
 struct StageInfo {
-    std::string_view name;      // snake_case, as `pbf bench` prints it
-    double StageTimes::*phase;  // predict, neighborSearch, solve or postProcess
-    double StageTimes::*part;   // a finer part of the phase, or null
+    std::string_view name;  // snake_case, as `pbf bench` prints it
+    StageTimesField phase;  // predict, neighborSearch, solve or postProcess
+    StageTimesField part;   // a finer part of the phase, or null
 };
 
 inline const StageInfo& stageInfo(Stage stage) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 
+#include "pbf/core/config.hpp"
 #include "pbf/core/params.hpp"
 
 namespace pbf {
@@ -22,7 +23,7 @@ namespace pbf {
 // ranks hold different particles). The multiply by a power of two is exact;
 // the truncation loses under 2.4e-10 per particle. int64 holds the sum of
 // 2^31 particles at C = 1, far beyond any real state.
-inline std::int64_t fixedPointCompression(float constraint) {
+PBF_HD inline std::int64_t fixedPointCompression(float constraint) {
     return static_cast<std::int64_t>(constraint * 0x1p32f);
 }
 inline double averageCompression(std::int64_t fixedPointSum, std::uint64_t particles) {

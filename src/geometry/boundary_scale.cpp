@@ -73,19 +73,4 @@ BoundaryScale::BoundaryScale(const Solid& shape, float h, float range, float spa
             }
 }
 
-float BoundaryScale::at(const Vec3& local) const {
-    const Vec3 g = (local - box_.min) * inverseSpacing_;
-    if (!(g.x >= 0.0f && g.y >= 0.0f && g.z >= 0.0f)) return 1.0f;
-    const int i = int(g.x), j = int(g.y), k = int(g.z);
-    if (i >= nx_ - 1 || j >= ny_ - 1 || k >= nz_ - 1) return 1.0f;
-    const float fx = g.x - float(i), fy = g.y - float(j), fz = g.z - float(k);
-    const auto v = [&](int a, int b, int c) {
-        return ratio_[(std::size_t(k + c) * ny_ + (j + b)) * nx_ + (i + a)];
-    };
-    const auto lerp = [](float a, float b, float t) { return a + t * (b - a); };
-    const float x00 = lerp(v(0, 0, 0), v(1, 0, 0), fx), x10 = lerp(v(0, 1, 0), v(1, 1, 0), fx);
-    const float x01 = lerp(v(0, 0, 1), v(1, 0, 1), fx), x11 = lerp(v(0, 1, 1), v(1, 1, 1), fx);
-    return lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz);
-}
-
 }  // namespace pbf

@@ -27,6 +27,7 @@
 #include <memory>
 #include <vector>
 
+#include "geometry/shape_distance.hpp"
 #include "pbf/core/vec3.hpp"
 #include "pbf/geometry/solids.hpp"
 
@@ -39,7 +40,11 @@ class BoundaryScale {
     BoundaryScale(const Solid& shape, float h, float range, float spacing);
 
     // The ratio at `local` (the shape's frame), trilinear; 1 outside the grid.
-    float at(const Vec3& local) const;
+    float at(const Vec3& local) const { return samples().interpolate(local, 1.0f); }
+    // The grid as plain data (for backends that copy it to a device).
+    shape::GridSamples samples() const {
+        return {box_.min, inverseSpacing_, nx_, ny_, nz_, ratio_.data()};
+    }
 
   private:
     Aabb box_;

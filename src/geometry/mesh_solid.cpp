@@ -13,6 +13,7 @@
 #include <optional>
 #include <utility>
 
+#include "geometry/shape_distance.hpp"
 #include "pbf/geometry/solids.hpp"
 #include "pbf/geometry/triangle_mesh.hpp"
 
@@ -59,26 +60,43 @@ class MeshSolid final : public Solid {
         for (int a = 0; a < 2; ++a)
             for (int b = 0; b < 2; ++b)
                 for (int c = 0; c < 2; ++c) v[a][b][c] = accessor->getValue(base.offsetBy(a, b, c));
-        auto lerp = [](float x0, float x1, float t) { return x0 + t * (x1 - x0); };
-        // Interpolate along z, then y, then x, keeping the partial derivatives.
-        float vz[2][2], dz[2][2];
-        for (int a = 0; a < 2; ++a)
-            for (int b = 0; b < 2; ++b) {
-                vz[a][b] = lerp(v[a][b][0], v[a][b][1], fz);
-                dz[a][b] = v[a][b][1] - v[a][b][0];
-            }
-        const float vy0 = lerp(vz[0][0], vz[0][1], fy), vy1 = lerp(vz[1][0], vz[1][1], fy);
-        const float dy0 = vz[0][1] - vz[0][0], dy1 = vz[1][1] - vz[1][0];
-        const float dz0 = lerp(dz[0][0], dz[0][1], fy), dz1 = lerp(dz[1][0], dz[1][1], fy);
-        float d = lerp(vy0, vy1, fx);
-        Vec3 g{vy1 - vy0, lerp(dy0, dy1, fx), lerp(dz0, dz1, fx)};
+        Vec3 g;
+        float d = shape::trilinearWithGradient(v, fx, fy, fz, g);
         if (shellHalfThickness_ > 0.0f) d -= shellHalfThickness_;  // open mesh: a shell
-        const float len = length(g);
-        normal = len > 0.0f ? g * (1.0f / len) : Vec3{0.0f, 1.0f, 0.0f};
+        normal = shape::normalised(g);
         return d;
     }
     Aabb bounds() const override { return bounds_; }
     std::string describe() const override { return description_; }
+    // The level set's voxel values over the bounds (which include the band)
+    // and one voxel more: trilinear interpolation of them is the
+    // signedDistance above (beyond them the level set holds its background).
+    ShapeData shapeData(float, float) const override {
+        const double voxel = grid_->voxelSize()[0];
+        const openvdb::Coord lo(int(std::floor(bounds_.min.x / voxel)) - 1,
+                                int(std::floor(bounds_.min.y / voxel)) - 1,
+                                int(std::floor(bounds_.min.z / voxel)) - 1);
+        const openvdb::Coord hi(int(std::ceil(bounds_.max.x / voxel)) + 1,
+                                int(std::ceil(bounds_.max.y / voxel)) + 1,
+                                int(std::ceil(bounds_.max.z / voxel)) + 1);
+        ShapeData d;
+        d.kind = ShapeData::Kind::Samples;
+        d.spacing = float(voxel);
+        d.origin = {float(lo.x() * voxel), float(lo.y() * voxel), float(lo.z() * voxel)};
+        d.nx = hi.x() - lo.x() + 1;
+        d.ny = hi.y() - lo.y() + 1;
+        d.nz = hi.z() - lo.z() + 1;
+        d.values.resize(std::size_t(d.nx) * d.ny * d.nz);
+        const openvdb::FloatGrid::ConstAccessor accessor = grid_->getConstAccessor();
+        for (int k = 0; k < d.nz; ++k)
+            for (int j = 0; j < d.ny; ++j)
+                for (int i = 0; i < d.nx; ++i)
+                    d.values[(std::size_t(k) * d.ny + j) * d.nx + i] =
+                        accessor.getValue(lo.offsetBy(i, j, k));
+        d.outside = grid_->background() - shellHalfThickness_;
+        d.offset = shellHalfThickness_;
+        return d;
+    }
 
   private:
     openvdb::FloatGrid::Ptr grid_;

@@ -5,14 +5,10 @@
 #include <sstream>
 
 #include "geometry/boundary_scale.hpp"
+#include "geometry/shape_distance.hpp"
 
 namespace pbf {
 namespace {
-
-Vec3 normalised(const Vec3& v) {
-    const float len = length(v);
-    return len > 0.0f ? v * (1.0f / len) : Vec3{0.0f, 1.0f, 0.0f};
-}
 
 std::string format(const Vec3& v) {
     std::ostringstream s;
@@ -24,33 +20,17 @@ class BoxSolid final : public Solid {
   public:
     explicit BoxSolid(const Aabb& box) : box_(box) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
-        const Vec3 centre = (box_.min + box_.max) * 0.5f;
-        const Vec3 half = box_.extent() * 0.5f;
-        const Vec3 q{std::fabs(p.x - centre.x) - half.x, std::fabs(p.y - centre.y) - half.y,
-                     std::fabs(p.z - centre.z) - half.z};
-        const Vec3 sign{p.x < centre.x ? -1.0f : 1.0f, p.y < centre.y ? -1.0f : 1.0f,
-                        p.z < centre.z ? -1.0f : 1.0f};
-        const Vec3 outside{std::max(q.x, 0.0f), std::max(q.y, 0.0f), std::max(q.z, 0.0f)};
-        const float outsideLength = length(outside);
-        if (outsideLength > 0.0f) {
-            normal = normalised({outside.x * sign.x, outside.y * sign.y, outside.z * sign.z});
-            return outsideLength;
-        }
-        // Inside: the nearest face.
-        if (q.x >= q.y && q.x >= q.z) {
-            normal = {sign.x, 0.0f, 0.0f};
-            return q.x;
-        }
-        if (q.y >= q.z) {
-            normal = {0.0f, sign.y, 0.0f};
-            return q.y;
-        }
-        normal = {0.0f, 0.0f, sign.z};
-        return q.z;
+        return shape::boxDistance(box_, p, normal);
     }
     Aabb bounds() const override { return box_; }
     std::string describe() const override {
         return "box " + format(box_.min) + " - " + format(box_.max);
+    }
+    ShapeData shapeData(float, float) const override {
+        ShapeData d;
+        d.kind = ShapeData::Kind::Box;
+        d.box = box_;
+        return d;
     }
 
   private:
@@ -61,9 +41,7 @@ class SphereSolid final : public Solid {
   public:
     SphereSolid(const Vec3& c, float r) : centre_(c), radius_(r) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
-        const Vec3 d = p - centre_;
-        normal = normalised(d);
-        return length(d) - radius_;
+        return shape::sphereDistance(centre_, radius_, p, normal);
     }
     Aabb bounds() const override {
         const Vec3 r{radius_, radius_, radius_};
@@ -71,6 +49,13 @@ class SphereSolid final : public Solid {
     }
     std::string describe() const override {
         return "sphere at " + format(centre_) + " radius " + std::to_string(radius_);
+    }
+    ShapeData shapeData(float, float) const override {
+        ShapeData d;
+        d.kind = ShapeData::Kind::Sphere;
+        d.center = centre_;
+        d.radius = radius_;
+        return d;
     }
 
   private:
@@ -81,14 +66,20 @@ class SphereSolid final : public Solid {
 class PlaneSolid final : public Solid {
   public:
     PlaneSolid(const Vec3& point, const Vec3& normal, const Aabb& domain)
-        : point_(point), normal_(normalised(normal)), domain_(domain) {}
+        : point_(point), normal_(shape::normalised(normal)), domain_(domain) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
-        normal = normal_;
-        return dot(p - point_, normal_);
+        return shape::planeDistance(point_, normal_, p, normal);
     }
     Aabb bounds() const override { return domain_; }
     std::string describe() const override {
         return "plane through " + format(point_) + " normal " + format(normal_);
+    }
+    ShapeData shapeData(float, float) const override {
+        ShapeData d;
+        d.kind = ShapeData::Kind::Plane;
+        d.point = point_;
+        d.normal = normal_;
+        return d;
     }
 
   private:
@@ -100,30 +91,9 @@ class PlaneSolid final : public Solid {
 class CylinderSolid final : public Solid {
   public:
     CylinderSolid(const Vec3& base, const Vec3& axis, float radius, float height)
-        : base_(base), axis_(normalised(axis)), radius_(radius), height_(height) {}
+        : base_(base), axis_(shape::normalised(axis)), radius_(radius), height_(height) {}
     float signedDistance(const Vec3& p, Vec3& normal) const override {
-        // Exact capped-cylinder distance in (radial, axial) coordinates.
-        const Vec3 d = p - base_;
-        const float along = dot(d, axis_);
-        const Vec3 radialVector = d - axis_ * along;
-        const float radial = length(radialVector);
-        const Vec3 radialDirection =
-            radial > 0.0f ? radialVector * (1.0f / radial) : perpendicular();
-        const float halfHeight = 0.5f * height_;
-        const float qa = std::fabs(along - halfHeight) - halfHeight;  // axial
-        const float qr = radial - radius_;                            // radial
-        const Vec3 axialDirection = along < halfHeight ? -axis_ : axis_;
-        if (qa > 0.0f && qr > 0.0f) {
-            const float distance = std::sqrt(qa * qa + qr * qr);
-            normal = normalised(radialDirection * qr + axialDirection * qa);
-            return distance;
-        }
-        if (qa > qr) {
-            normal = axialDirection;
-            return qa;
-        }
-        normal = radialDirection;
-        return qr;
+        return shape::cylinderDistance(base_, axis_, radius_, height_, p, normal);
     }
     Aabb bounds() const override {
         const Vec3 top = base_ + axis_ * height_;
@@ -136,22 +106,22 @@ class CylinderSolid final : public Solid {
         return "cylinder from " + format(base_) + " along " + format(axis_) + " radius " +
                std::to_string(radius_) + " height " + std::to_string(height_);
     }
+    ShapeData shapeData(float, float) const override {
+        ShapeData d;
+        d.kind = ShapeData::Kind::Cylinder;
+        d.base = base_;
+        d.axis = axis_;
+        d.radius = radius_;
+        d.height = height_;
+        return d;
+    }
 
   private:
-    Vec3 perpendicular() const {
-        return normalised(std::fabs(axis_.x) < 0.9f ? cross(axis_, {1, 0, 0})
-                                                    : cross(axis_, {0, 1, 0}));
-    }
     Vec3 base_;
     Vec3 axis_;
     float radius_;
     float height_;
 };
-
-bool within(const Aabb& box, const Vec3& p, float reach) {
-    return p.x >= box.min.x - reach && p.x <= box.max.x + reach && p.y >= box.min.y - reach &&
-           p.y <= box.max.y + reach && p.z >= box.min.z - reach && p.z <= box.max.z + reach;
-}
 
 Aabb worldBounds(const Aabb& local, const Pose& pose) {
     if (pose.identity()) return local;
@@ -167,6 +137,31 @@ Aabb worldBounds(const Aabb& local, const Pose& pose) {
 }
 
 }  // namespace
+
+ShapeData Solid::shapeData(float spacing, float margin) const {
+    if (!(spacing > 0.0f))
+        throw std::invalid_argument("Solid::shapeData: spacing must be positive");
+    const Aabb b = bounds();
+    ShapeData d;
+    d.kind = ShapeData::Kind::Samples;
+    d.spacing = spacing;
+    d.origin = b.min - Vec3{margin, margin, margin};
+    const Vec3 e = b.extent() + Vec3{2.0f * margin, 2.0f * margin, 2.0f * margin};
+    d.nx = int(std::ceil(e.x / spacing)) + 2;
+    d.ny = int(std::ceil(e.y / spacing)) + 2;
+    d.nz = int(std::ceil(e.z / spacing)) + 2;
+    d.values.resize(std::size_t(d.nx) * d.ny * d.nz);
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i) {
+                Vec3 normal;
+                d.values[(std::size_t(k) * d.ny + j) * d.nx + i] =
+                    signedDistance(d.origin + Vec3{float(i), float(j), float(k)} * spacing, normal);
+            }
+    // Beyond the samples the solid is at least the margin away.
+    d.outside = margin;
+    return d;
+}
 
 void SolidSet::add(std::unique_ptr<Solid> shape, const SolidMotion& motion, bool coupled) {
     shapes_.push_back(std::move(shape));
@@ -217,7 +212,7 @@ float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
                                std::size_t* nearest) const {
     float best = reach;
     const auto consider = [&](std::size_t k) {
-        if (!within(bounds_[k], p, reach)) return;
+        if (!shape::withinReach(bounds_[k], p, reach)) return;
         Vec3 n;
         const float d = distanceTo(k, p, n);
         if (d < best) {

@@ -4,8 +4,10 @@
 
 namespace pbf::render {
 
-SimulationWorker::SimulationWorker(const Scene& scene, bool playing)
-    : definition_(scene), playing_(playing), thread_([this] { run(); }) {}
+SimulationWorker::SimulationWorker(const Scene& scene, bool playing, BackendKind device)
+    : definition_(scene), worldOptions_{device, {}}, playing_(playing), thread_([this] {
+          run();
+      }) {}
 
 SimulationWorker::~SimulationWorker() {
     quit_ = true;
@@ -125,7 +127,7 @@ void SimulationWorker::stepOneFrame(World& world) {
 void SimulationWorker::run() {
     std::unique_ptr<World> world;
     try {
-        world = std::make_unique<World>(definition_);
+        world = std::make_unique<World>(definition_, worldOptions_);
     } catch (const std::exception& e) {
         failed_ = true;
         playing_ = false;
@@ -138,7 +140,7 @@ void SimulationWorker::run() {
         if (resetRequest_.exchange(false) && world) {
             // Back to the initial state, with the settings in use now.
             const SimulationParams settings = world->settings();
-            world = std::make_unique<World>(definition_);
+            world = std::make_unique<World>(definition_, worldOptions_);
             world->applySettings(settings);
             frames_ = 0;
             failed_ = false;

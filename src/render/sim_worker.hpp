@@ -36,7 +36,8 @@ struct Snapshot {
 
 class SimulationWorker {
   public:
-    explicit SimulationWorker(const Scene& scene, bool playing);
+    // Steps a World of `scene` on `device` (WorldOptions::backend).
+    SimulationWorker(const Scene& scene, bool playing, BackendKind device = BackendKind::Cpu);
     ~SimulationWorker();
     SimulationWorker(const SimulationWorker&) = delete;
     SimulationWorker& operator=(const SimulationWorker&) = delete;
@@ -66,6 +67,7 @@ class SimulationWorker {
     void stepOneFrame(World& world);
 
     WorldDef definition_;
+    WorldOptions worldOptions_;
     std::atomic<bool> playing_;
     std::atomic<bool> quit_{false};
     std::atomic<int> stepRequests_{0};

@@ -173,7 +173,7 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     panel.params = scene.simulation;
     panel.defaults = scene.simulation;
 
-    SimulationWorker worker(scene, !options.paused && !batch);
+    SimulationWorker worker(scene, !options.paused && !batch, options.device);
     if (batch) worker.pauseAt(options.frames);
 
     ViewerSummary summary;

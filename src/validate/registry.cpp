@@ -17,10 +17,10 @@ Case laplaceCase();
 Case heaveCase();
 
 const std::vector<Case>& cases() {
-    static const std::vector<Case> all{
-        martinMoyceCase(),  hydrostaticCase(),  freeFallCase(), momentumCase(),
-        taylorGreenCase(),  archimedesCase(),   heaveCase(),    rayleighDropCase(),
-        cubeToSphereCase(), laplaceCase(),      wettingCase()};
+    static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(),  freeFallCase(),
+                                       momentumCase(),    taylorGreenCase(),  archimedesCase(),
+                                       heaveCase(),       rayleighDropCase(), cubeToSphereCase(),
+                                       laplaceCase(),     wettingCase()};
     return all;
 }
 

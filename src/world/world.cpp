@@ -16,7 +16,20 @@ namespace pbf {
 World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     if (const std::string problem = validate(def_); !problem.empty())
         throw SceneError((def_.source.empty() ? def_.name : def_.source) + ": " + problem);
-    // Refused before anything is allocated: a size that does not fit in memory.
+    // Refused before anything is allocated: a device that cannot run here, a
+    // size that does not fit in its memory or in the host's.
+    if (options.backend == BackendKind::Cuda || options.backend == BackendKind::CudaOnCpu) {
+        const DeviceInfo device = deviceInfo(options.backend);
+        if (!device.usable)
+            throw std::runtime_error("device " + std::string(backendName(options.backend)) + ": " +
+                                     device.description);
+        // A device in host memory (cuda-on-cpu) has what the machine has.
+        std::size_t limit = options.backendOptions.deviceMemoryBytes;
+        if (limit == 0)
+            limit = options.backend == BackendKind::CudaOnCpu ? availableMemoryBytes()
+                                                              : device.freeBytes;
+        if (limit > 0) checkDeviceMemory(def_, options.backend, device.description, limit);
+    }
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(def_, available);
     settings_ = def_.simulation;

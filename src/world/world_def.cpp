@@ -289,6 +289,21 @@ void checkMemory(const WorldDef& def, std::size_t availableBytes) {
                          " MiB of memory available; use larger particles or smaller blocks");
 }
 
+void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::string& description,
+                       std::size_t availableBytes) {
+    const std::size_t particles = countParticles(def);
+    const double needed = double(particles) * double(deviceBytesPerParticle(
+                                                  def.simulation, !def.rigidBodies.empty())) +
+                          double(deviceCellTableBytes(def.simulation));
+    if (needed > double(availableBytes))
+        throw SceneError((def.source.empty() ? def.name : def.source) +
+                         ": fluid_blocks: " + std::to_string(particles) + " particles need about " +
+                         std::to_string(static_cast<long long>(needed / (1 << 20))) +
+                         " MiB on device " + std::string(backendName(device)) + " (" + description +
+                         "), more than the " + std::to_string(availableBytes >> 20) +
+                         " MiB free there; use larger particles or smaller blocks");
+}
+
 std::size_t availableMemoryBytes() {
     std::ifstream meminfo("/proc/meminfo");
     std::string line;

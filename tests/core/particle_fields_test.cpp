@@ -146,3 +146,78 @@ TEST(ParticleFields, MpiRecordsCarryEveryField) {
 }
 
 }  // namespace
+
+#if defined(PBF_HAVE_DEVICE_FIELDS_TEST)
+#include "pbf/backend/backend.hpp"
+#include "pbf/core/solver_constants.hpp"
+
+namespace pbf::gpu::on_cpu_fields_test {
+std::unique_ptr<pbf::Backend> makeBackend(const pbf::SimulationParams& params);
+}
+
+namespace {
+
+// Every array of every field, as doubles, in list order.
+std::vector<std::vector<double>> allArrays(const ParticleStore& p) {
+    std::vector<std::vector<double>> arrays;
+    p.forEachField([&](const pbf::ParticleFieldInfo&, const auto& a) {
+        for (const auto* c : pbf::componentsOf(a)) arrays.emplace_back(c->begin(), c->end());
+    });
+    return arrays;
+}
+
+}  // namespace
+
+// The GPU backend's device arrays (tests/core/particle_fields_device.cpp):
+// upload and download carry every field, append extends every field, and a
+// step's reorder by cell permutes every field with the particle.
+TEST(ParticleFields, DeviceArraysCarryEveryField) {
+    const std::size_t n = 500;
+    ParticleStore p = filledStore(n);
+    for (std::size_t i = 0; i < n; ++i) {  // a cloud in the domain, so the step sorts it
+        const float t = float(i);
+        p.position.set(i, {0.1f + 0.0017f * float((i * 37) % 400), 0.2f + 0.0011f * t,
+                           0.3f + 0.0013f * float((i * 53) % 300)});
+        p.predicted.set(i, p.position.get(i));
+        p.id[i] = std::uint32_t(i);
+    }
+    p.setNextId(std::uint32_t(n));
+    pbf::SimulationParams params;
+    params.domain = {{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}};
+    params.particleRadius = 0.01f;
+    const pbf::SolverConstants constants = pbf::SolverConstants::from(params);
+    std::unique_ptr<pbf::Backend> device = pbf::gpu::on_cpu_fields_test::makeBackend(params);
+    device->upload(p);
+    ParticleStore back;
+    device->download(back);
+    EXPECT_EQ(allArrays(back), allArrays(p));
+    EXPECT_EQ(back.keptOptionalFields(), p.keptOptionalFields());
+
+    const std::vector<Vec3> added(3, Vec3{0.5f, 0.5f, 0.5f});
+    device->append(added, added, 1000.0f);
+    device->step({params, constants, nullptr}, 0.001f);
+    device->download(back);
+    ASSERT_EQ(back.size(), n + 3);
+    std::vector<bool> seen(n + 3, false);
+    for (std::size_t k = 0; k < back.size(); ++k) {
+        const std::uint32_t i = back.id[k];
+        ASSERT_LT(i, n + 3);
+        seen[i] = true;
+        // The fields the step does not write followed their particle;
+        // appended particles got zeros.
+        const std::size_t vector = std::size_t(pbf::ParticleField::testVector);
+        const std::size_t tag = std::size_t(pbf::ParticleField::testTag);
+        const auto components = pbf::componentsOf(back.testVector);
+        for (std::size_t c = 0; c < 3; ++c)
+            EXPECT_EQ((*components[c])[k], i < n ? valueOf(vector, i, c) : 0.0f)
+                << "particle " << i;
+        EXPECT_EQ(back.testTag[k], i < n ? std::uint32_t(valueOf(tag, i, 0)) : 0u)
+            << "particle " << i;
+    }
+    for (std::size_t i = 0; i < n + 3; ++i) EXPECT_TRUE(seen[i]) << "id " << i;
+    // The step did sort: the memory order changed.
+    std::size_t moved = 0;
+    for (std::size_t k = 0; k < back.size(); ++k) moved += back.id[k] != k;
+    EXPECT_GT(moved, n / 2);
+}
+#endif

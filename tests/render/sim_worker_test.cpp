@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <thread>
+#include <vector>
 
+#include "pbf/backend/backend.hpp"
 #include "pbf/io/scene.hpp"
 #include "support/test_util.hpp"
 
@@ -101,6 +104,39 @@ TEST(SimulationWorker, StateGuardFailureAfterASettingsChangeIsReported) {
     worker.requestStep();
     ASSERT_TRUE(waitFor([&] { return worker.framesSimulated() == 1; }));
     EXPECT_TRUE(worker.lastError().empty()) << worker.lastError();
+}
+
+// The viewer on the GPU backend (`pbf view --device cuda`; here its CPU
+// build, or the device PBF_TEST_DEVICE names): the worker's frames are the
+// device's frames, bit for bit. Catches a worker that drops its device and
+// steps on the default cpu backend (whose last bits differ: the second
+// check), and a publication that mixes up the device's particle order.
+TEST(SimulationWorker, StepsOnTheDeviceItWasGiven) {
+    const char* name = std::getenv("PBF_TEST_DEVICE");
+    const BackendKind device = name && *name ? parseBackendKind(name) : BackendKind::CudaOnCpu;
+    const DeviceInfo info = deviceInfo(device);
+    if (!info.usable) GTEST_SKIP() << "device " << backendName(device) << ": " << info.description;
+    const Scene scene = parseScene(test::smallSceneJson(), "small");
+    SimulationWorker worker(scene, false, device);
+    worker.pauseAt(2);
+    ASSERT_TRUE(waitFor([&] { return !worker.playing() && worker.framesSimulated() == 2; }));
+    Snapshot snapshot;
+    ASSERT_TRUE(waitFor([&] {
+        worker.takeSnapshot(snapshot);
+        return snapshot.report.frame == 2;
+    }));
+
+    const auto framesOn = [&](BackendKind kind) {
+        World world(scene, WorldOptions{kind, {}});
+        for (int frame = 0; frame < 2; ++frame) EXPECT_TRUE(world.stepFrame().ok());
+        const ParticleStore& p = world.particles();
+        std::vector<float> xyz;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            xyz.insert(xyz.end(), {p.position.x[i], p.position.y[i], p.position.z[i]});
+        return xyz;
+    };
+    EXPECT_EQ(snapshot.xyz, framesOn(device));
+    EXPECT_NE(snapshot.xyz, framesOn(BackendKind::Cpu)) << "the cpu backend's frames";
 }
 
 }  // namespace

@@ -4,16 +4,18 @@
 # `--resume`; every frame file (and bodies.csv, for a scene with rigid
 # bodies) must equal the uninterrupted run's byte for byte, and the VTK
 # collection particles.pvd must list every frame once.
-# Usage: kill_resume_test.sh PBF SCENE WORKDIR
+# Usage: kill_resume_test.sh PBF SCENE WORKDIR [EXTRA_RUN_ARGUMENTS...]
+#   e.g. --device cuda-on-cpu: the same on another device.
 set -euo pipefail
 pbf=$1
 scene=$2
 work=$3
+shift 3
 rm -rf "$work"
 mkdir -p "$work"
 frames=40
 args=(run "$scene" --frames "$frames" -q --set particle_radius=0.015 --checkpoint-every 2
-      --checkpoint-seconds 0 --vtk)
+      --checkpoint-seconds 0 --vtk "$@")
 
 "$pbf" "${args[@]}" --out "$work/straight" > /dev/null
 

@@ -83,11 +83,28 @@ enum class BackendKind {
     Cpu,        // SIMD CPU solver (Highway), OpenMP, deterministic: the default
     Reference,  // scalar, one function per equation of the paper: the test oracle
     Mpi,        // the CPU solver on one slab of the grid per MPI rank (builds with PBF_MPI)
+    Cuda,       // the GPU backend on an NVIDIA GPU (builds with PBF_CUDA, nvcc)
+    CudaOnCpu,  // the GPU backend's same source on the CPU (Thrust's OpenMP system)
 };
-// "cpu", "reference", "mpi".
+// "cpu", "reference", "mpi", "cuda", "cuda-on-cpu".
 std::string_view backendName(BackendKind kind);
-// Parses a backend name; throws std::invalid_argument listing the choices.
+// Parses a device name as `--device` takes it (cpu, reference, cuda,
+// cuda-on-cpu); throws std::invalid_argument listing the choices.
 BackendKind parseBackendKind(std::string_view name);
+
+// A device as this program can use it: whether it was built in, whether it
+// can run here now, and what it is (or why not), e.g. "NVIDIA H100 80GB
+// HBM3 (sm_90), 79.1 GiB of 79.6 GiB free" or "this pbf was built without CUDA ...".
+struct DeviceInfo {
+    BackendKind kind = BackendKind::Cpu;
+    bool built = false;
+    bool usable = false;
+    std::string description;
+    std::size_t freeBytes = 0;  // device memory free now; 0 for devices in host memory
+};
+DeviceInfo deviceInfo(BackendKind kind);
+// The devices `--device` can name, in the order `pbf --version` lists them.
+std::vector<BackendKind> deviceKinds();
 
 // Backend-specific figures for `pbf bench` (NaN where they do not apply).
 struct BackendDiagnostics {
@@ -140,7 +157,16 @@ struct BackendOptions {
     // CPU backend: widest index range a block's neighbour lists may span
     // and still be stored as 16-bit offsets (NeighborSearch).
     std::uint32_t compactListSpan = 65536;
+    // GPU backend: the device memory free for particles, bytes; 0: ask the
+    // device (tests set it to check the refusal of scenes that do not fit).
+    std::size_t deviceMemoryBytes = 0;
 };
+
+// Device memory the GPU backend needs per particle for these settings
+// (with the reaction records when rigid bodies are coupled), and for the
+// grid's cell table: a World refuses scenes that would not fit.
+std::size_t deviceBytesPerParticle(const SimulationParams& params, bool rigidBodies);
+std::size_t deviceCellTableBytes(const SimulationParams& params);
 
 // A backend of `kind` for the fixed part of `params` (domain, particle
 // radius, kernel radius), holding no particles yet.

@@ -8,3 +8,11 @@
 #else
 #define PBF_HD
 #endif
+
+// Forces inlining of small helpers that take a callable (the neighbour
+// stencil walk): host and device compilers spell it differently.
+#if defined(__CUDACC__)
+#define PBF_ALWAYS_INLINE __forceinline__
+#else
+#define PBF_ALWAYS_INLINE [[gnu::always_inline]] inline
+#endif

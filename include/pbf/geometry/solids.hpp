@@ -22,12 +22,38 @@
 #include <string>
 #include <vector>
 
+#include "pbf/core/config.hpp"
 #include "pbf/core/vec3.hpp"
 #include "pbf/geometry/pose.hpp"
 
 namespace pbf {
 
 class BoundaryScale;  // src/geometry/boundary_scale.hpp
+
+// A solid's shape as plain data, in its own frame: what a backend that
+// evaluates the shape away from the host objects (the GPU backend,
+// src/backend/gpu) needs. Analytic shapes give their parameters (the same
+// distance functions then run there, src/geometry/shape_distance.hpp); other
+// shapes their distance field sampled on a grid (trilinear in between).
+struct ShapeData {
+    enum class Kind { Box, Sphere, Plane, Cylinder, Samples };
+    Kind kind = Kind::Samples;
+    Aabb box;             // Box
+    Vec3 center;          // Sphere
+    float radius = 0.0f;  // Sphere, Cylinder
+    Vec3 point, normal;   // Plane (unit normal)
+    Vec3 base, axis;      // Cylinder (unit axis)
+    float height = 0.0f;  // Cylinder
+    // Samples: signed distances at the nodes origin + (i, j, k) * spacing
+    // (i fastest), `outside` beyond them; `offset` is subtracted from the
+    // interpolated value (an open mesh's shell half-thickness).
+    Vec3 origin;
+    float spacing = 0.0f;
+    int nx = 0, ny = 0, nz = 0;
+    std::vector<float> values;
+    float outside = 0.0f;
+    float offset = 0.0f;
+};
 
 class Solid {
   public:
@@ -39,6 +65,11 @@ class Solid {
     // clip it to the domain).
     virtual Aabb bounds() const = 0;
     virtual std::string describe() const = 0;
+    // The shape as plain data (ShapeData). The default samples
+    // signedDistance at nodes `spacing` apart over bounds() grown by
+    // `margin`; the built-in shapes give their exact parameters, meshes their
+    // level set's voxels.
+    virtual ShapeData shapeData(float spacing, float margin) const;
 };
 
 // Where a solid is and how it moves: the pose of its frame and the velocity
@@ -50,7 +81,7 @@ struct SolidMotion {
     Vec3 angularVelocity;  // rad/s
 
     // Velocity of the solid's material at world point p: v + omega x (p - origin).
-    Vec3 velocityAt(const Vec3& p) const {
+    PBF_HD Vec3 velocityAt(const Vec3& p) const {
         return velocity + cross(angularVelocity, p - pose.position);
     }
 };
@@ -86,6 +117,10 @@ class SolidSet {
     // (Young-Dupre: contact angle acos(2 a - 1)); 0 by default.
     void setAdhesion(std::size_t i, float adhesion);
     float adhesion(std::size_t i) const { return adhesion_[i]; }
+    // The ratio grid itself (null without one), for backends that copy it.
+    const BoundaryScale* boundaryScaleGrid(std::size_t i) const { return scales_[i].get(); }
+    // Whether solid i's pose is the identity (its shape is queried directly).
+    bool identityPose(std::size_t i) const { return identity_[i]; }
     // World-space box around solid i's surface.
     const Aabb& bounds(std::size_t i) const { return bounds_[i]; }
 

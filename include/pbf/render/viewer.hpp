@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "pbf/backend/backend.hpp"
 #include "pbf/io/scene.hpp"
 #include "pbf/render/camera.hpp"
 #include "pbf/render/renderer.hpp"
@@ -23,6 +24,7 @@ struct ViewerOptions {
     // window (panel included) to `screenshot` as PNG and close.
     std::filesystem::path screenshot;
     int frames = 0;
+    BackendKind device = BackendKind::Cpu;  // the simulation's solver (--device)
 };
 
 struct ViewerSummary {

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pbf/backend/backend.hpp"
 #include "pbf/bodies/rigid_body.hpp"
 #include "pbf/core/errors.hpp"
 #include "pbf/core/params.hpp"
@@ -91,6 +92,11 @@ ParticleStore createParticles(const WorldDef& def, const SolidSet* solids = null
 // memory (the bytes per particle the solver needs times the count); throws
 // SceneError naming the fluid blocks.
 void checkMemory(const WorldDef& def, std::size_t availableBytes);
+// The same for the GPU backend on `device` (include/pbf/backend/backend.hpp:
+// deviceBytesPerParticle, the cell table), with `availableBytes` free on it;
+// the message names the device (`description`, e.g. the GPU's name).
+void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::string& description,
+                       std::size_t availableBytes);
 // Memory the machine can give now (MemAvailable), bytes; 0 when unknown.
 std::size_t availableMemoryBytes();
 std::size_t estimatedBytesPerParticle(const SimulationParams& params);

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "pbf/core/config.hpp"
 #include "pbf/core/vec3.hpp"
 
 namespace pbf::grid {
@@ -30,31 +31,43 @@ struct GridView {
     // Cell coordinate of `value` along an axis, clamped into the grid (also
     // catches NaN via the comparisons' false branch). For t > 0 truncation
     // is floor, so no libm call in builds without SSE4.1's round.
-    std::uint32_t coordinate(float value, float origin, std::uint32_t count) const {
+    PBF_HD std::uint32_t coordinate(float value, float origin, std::uint32_t count) const {
         const float t = (value - origin) * inverseCell;
         if (!(t > 0.0f)) return 0;
         if (t >= float(count - 1)) return count - 1;
         return static_cast<std::uint32_t>(t);
     }
     // Coordinate along axis[k].
-    std::uint32_t coordinate(const Vec3& p, int k) const {
+    PBF_HD std::uint32_t coordinate(const Vec3& p, int k) const {
         return coordinate(p[axis[k]], domain.min[axis[k]], n[k]);
     }
 
-    std::uint32_t cellIndexOf(const Vec3& p) const {
+    PBF_HD std::uint32_t cellIndexOf(const Vec3& p) const {
         return coordinate(p, 0) + n[0] * (coordinate(p, 1) + n[1] * coordinate(p, 2));
     }
 };
+
+// The grid over `domain` with cells of edge `cell` (cellStart left null):
+// axes from the shortest extent (fastest, rows) to the longest, ties in x,
+// y, z order; at least one cell per axis.
+inline GridView gridLayout(const Aabb& domain, float cell) {
+    GridView g{domain, cell, 1.0f / cell, {0, 1, 2}, {1, 1, 1}, nullptr};
+    const Vec3 e = domain.extent();
+    std::stable_sort(g.axis, g.axis + 3, [&e](int a, int b) { return e[a] < e[b]; });
+    for (int k = 0; k < 3; ++k)
+        g.n[k] = static_cast<std::uint32_t>(std::max(1.0f, std::ceil(e[g.axis[k]] / cell)));
+    return g;
+}
 
 // Calls visit(first, last) for the particle ranges of the rows (along
 // axis[0], adjacent in memory) of the 27-cell stencil around p's cell, in
 // increasing index order, without the rows and end cells farther than h
 // from p. Always inlined: in portable builds the caller is a SIMD kernel
 // compiled for a wider instruction set, and GCC would otherwise keep this
-// walk (and the kernel's `visit`) as calls.
+// walk (and the kernel's `visit`) as calls. The GPU backend walks the same
+// stencil (PBF_HD).
 template <class Visit>
-[[gnu::always_inline]] inline void forEachStencilRow(const GridView& g, const Vec3& p,
-                                                     Visit&& visit) {
+PBF_HD PBF_ALWAYS_INLINE void forEachStencilRow(const GridView& g, const Vec3& p, Visit&& visit) {
     const std::uint32_t c0 = g.coordinate(p, 0);
     const std::uint32_t c1 = g.coordinate(p, 1);
     const std::uint32_t c2 = g.coordinate(p, 2);

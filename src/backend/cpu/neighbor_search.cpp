@@ -8,17 +8,10 @@
 #include <string>
 
 #include "backend/cpu/grid_stencil.hpp"
-#include "core/parallel.hpp"
 #include "backend/cpu/simd.hpp"
+#include "core/parallel.hpp"
 
 namespace pbf {
-namespace {
-
-std::uint32_t cellsAlong(float extent, float cell) {
-    return static_cast<std::uint32_t>(std::max(1.0f, std::ceil(extent / cell)));
-}
-
-}  // namespace
 
 NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells,
                                std::uint32_t compactSpan)
@@ -37,8 +30,11 @@ NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t max
             "; use a smaller domain or larger particles");
     // Axes from the shortest extent (fastest, rows) to the longest (see
     // grid_stencil.hpp); ties keep x, y, z order.
-    std::stable_sort(axis_, axis_ + 3, [&e](int a, int b) { return e[a] < e[b]; });
-    for (int k = 0; k < 3; ++k) cells_[k] = cellsAlong(e[axis_[k]], radius);
+    const grid::GridView layout = grid::gridLayout(domain, radius);
+    for (int k = 0; k < 3; ++k) {
+        axis_[k] = layout.axis[k];
+        cells_[k] = layout.n[k];
+    }
     cellCount_ = std::size_t{cells_[0]} * cells_[1] * cells_[2];
     cellStart_.assign(cellCount_ + 1, 0);
 }

@@ -46,19 +46,19 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
 
 void Solver::buildPlan() {
     // Alg. 1 l. 1-7: prediction, collisions, neighbours.
-    plan_.add(Part::Before, {Stage::Predict, [](SolverStep& s) {
-                                 ParticleStore& p = s.particles;
-                                 forAll(s, [&](std::size_t b, std::size_t e) {
-                                     stages::predictPositions(s.context.params.gravity, s.dt,
-                                                              s.context.constants.collisionBox,
-                                                              p.position, p.velocity, p.predicted,
-                                                              b, e);
-                                 });
-                                 // The last substep's pressure acceleration, in the store so
-                                 // that it follows the particles through reorder, emitters and
-                                 // checkpoints; dropped while the warm start is off.
-                                 p.keepOptionalField(ParticleField::solveAcceleration, warmStartOn(s));
-                             }});
+    plan_.add(Part::Before,
+              {Stage::Predict, [](SolverStep& s) {
+                   ParticleStore& p = s.particles;
+                   forAll(s, [&](std::size_t b, std::size_t e) {
+                       stages::predictPositions(s.context.params.gravity, s.dt,
+                                                s.context.constants.collisionBox, p.position,
+                                                p.velocity, p.predicted, b, e);
+                   });
+                   // The last substep's pressure acceleration, in the store so
+                   // that it follows the particles through reorder, emitters and
+                   // checkpoints; dropped while the warm start is off.
+                   p.keepOptionalField(ParticleField::solveAcceleration, warmStartOn(s));
+               }});
     plan_.add(Part::Before, {Stage::WarmStart,
                              [](SolverStep& s) {
                                  ParticleStore& p = s.particles;
@@ -95,28 +95,25 @@ void Solver::buildPlan() {
     plan_.add(Part::Before, {Stage::NeighborLists, [this](SolverStep& s) {
                                  search_.buildNeighborLists(s.particles.predicted);
                              }});
-    plan_.add(Part::Before, {Stage::PackPositions, [this](SolverStep& s) {
-                                 forAll(s, [&](std::size_t b, std::size_t e) {
-                                     stages::packPositions(s.particles.predicted, s.predicted, b,
-                                                           e);
-                                 });
-                                 blockCompression_.resize(
-                                     (s.particles.size() + detail::kBlockSize - 1) /
-                                     detail::kBlockSize);
-                             }});
+    plan_.add(Part::Before,
+              {Stage::PackPositions, [this](SolverStep& s) {
+                   forAll(s, [&](std::size_t b, std::size_t e) {
+                       stages::packPositions(s.particles.predicted, s.predicted, b, e);
+                   });
+                   blockCompression_.resize((s.particles.size() + detail::kBlockSize - 1) /
+                                            detail::kBlockSize);
+               }});
 
     // Alg. 1 l. 8-19: one density iteration.
-    plan_.add(Part::Iteration, {Stage::DensityAndLambda, [this](SolverStep& s) {
-                                    std::fill(blockCompression_.begin(), blockCompression_.end(),
-                                              std::int64_t{0});
-                                    forOwned(s, [&](std::size_t b, std::size_t e) {
-                                        blockCompression_[b / detail::kBlockSize] =
-                                            stages::computeDensityAndLambda(
-                                                s.context.constants, s.solids, search_,
-                                                s.predicted, s.particles.density.data(),
-                                                s.withLambda, b, e);
-                                    });
-                                }});
+    plan_.add(Part::Iteration,
+              {Stage::DensityAndLambda, [this](SolverStep& s) {
+                   std::fill(blockCompression_.begin(), blockCompression_.end(), std::int64_t{0});
+                   forOwned(s, [&](std::size_t b, std::size_t e) {
+                       blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(
+                           s.context.constants, s.solids, search_, s.predicted,
+                           s.particles.density.data(), s.withLambda, b, e);
+                   });
+               }});
     // The average compression of the state the density pass just saw.
     auto errorControlled = [](const SolverStep& s) { return s.control.errorControlled(); };
     plan_.add(Part::Iteration, {Stage::CompressionTotals,
@@ -127,14 +124,14 @@ void Solver::buildPlan() {
                                         s.compression[0] += block;
                                 },
                                 errorControlled});
-    plan_.add(Part::Iteration, {Stage::ConvergenceCheck,
-                                [](SolverStep& s) {
-                                    s.stopIterations = s.control.converged(
-                                        s.corrections,
-                                        averageCompression(s.compression[0],
-                                                           std::uint64_t(s.compression[1])));
-                                },
-                                errorControlled});
+    plan_.add(Part::Iteration,
+              {Stage::ConvergenceCheck,
+               [](SolverStep& s) {
+                   s.stopIterations = s.control.converged(
+                       s.corrections,
+                       averageCompression(s.compression[0], std::uint64_t(s.compression[1])));
+               },
+               errorControlled});
     // Reads (x*, lambda) of the neighbours, writes the corrected x* over the
     // previous iteration's: the next density pass reads it.
     plan_.add(Part::Iteration, {Stage::CorrectPositions, [this](SolverStep& s) {
@@ -157,8 +154,8 @@ void Solver::buildPlan() {
                                 ParticleStore& p = s.particles;
                                 forAll(s, [&](std::size_t b, std::size_t e) {
                                     stages::recordSolveAcceleration(s.dt, p.position, p.predicted,
-                                                                    p.velocity,
-                                                                    p.solveAcceleration, b, e);
+                                                                    p.velocity, p.solveAcceleration,
+                                                                    b, e);
                                 });
                             },
                             warmStartOn});
@@ -206,8 +203,8 @@ void Solver::buildPlan() {
                             [this](SolverStep& s) {
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
                                     stages::applyVorticityConfinement(
-                                        s.context.constants, s.context.params.fluid.vorticity,
-                                        s.dt, search_, s.particles.predicted, *s.vorticity,
+                                        s.context.constants, s.context.params.fluid.vorticity, s.dt,
+                                        search_, s.particles.predicted, *s.vorticity,
                                         s.particles.density.data(), s.particles.velocity, b, e);
                                 });
                             },
@@ -235,10 +232,10 @@ void Solver::buildPlan() {
                                 const SolverParams& solver = s.context.params.solver;
                                 ParticleStore& p = s.particles;
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::respondToBoundaries(
-                                        s.context.constants, s.solids, solver.restitution,
-                                        solver.friction, s.dt, s.reactions, p.predicted,
-                                        p.velocity, b, e);
+                                    stages::respondToBoundaries(s.context.constants, s.solids,
+                                                                solver.restitution, solver.friction,
+                                                                s.dt, s.reactions, p.predicted,
+                                                                p.velocity, b, e);
                                     stages::commitPositions(p.predicted, p.position, b, e);
                                 });
                             }});

@@ -1,22 +1,28 @@
 #include "backend/reference/particle_sums.hpp"
 
-#include "backend/boundary.hpp"
-#include "backend/reference/equations.hpp"
-
 namespace pbf::reference {
 namespace {
 
-// The walls' and solids' kernel sum and its gradient at x (backend/boundary.hpp).
-struct BoundaryTerms {
-    float kernelSum = 0.0f;
-    Vec3 gradient;
+// A neighbour list as neighbor_sums.hpp visits it.
+struct ListNeighbors {
+    NeighborIndices list;
+    template <class Visit>
+    void operator()(Visit&& visit) const {
+        for (const std::uint32_t j : list) visit(j);
+    }
 };
 
-BoundaryTerms boundaryTerms(const SolverConstants& c, const SolidSet* solids, const Vec3& x) {
-    BoundaryTerms b;
-    boundary::addWallContribution(c, x, b.kernelSum, b.gradient);
-    boundary::addSolidContribution(c, solids, x, b.kernelSum, b.gradient);
-    return b;
+// An array read by index.
+template <class T>
+struct Array {
+    std::span<const T> values;
+    T operator()(std::uint32_t k) const { return values[k]; }
+};
+template <class T>
+Array(std::span<const T>) -> Array<T>;
+
+std::uint32_t index(std::size_t i) {
+    return static_cast<std::uint32_t>(i);
 }
 
 }  // namespace
@@ -24,49 +30,25 @@ BoundaryTerms boundaryTerms(const SolverConstants& c, const SolidSet* solids, co
 DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* solids,
                                   std::span<const Vec3> x, NeighborIndices neighbors,
                                   std::size_t i) {
-    const Vec3 xi = x[i];
-    float density = 0.0f;
-    Vec3 gradientI{};                      // grad_{x_i} C_i (eq. 8, k = i)
-    float neighborGradientSquared = 0.0f;  // sum_j |grad_{x_j} C_i|^2 (eq. 8, k = j)
-    for (const std::uint32_t j : neighbors) {
-        const Vec3 rij = xi - x[j];
-        density += densityTerm(c, rij);
-        gradientI += constraintGradientOfSelfTerm(c, rij);
-        neighborGradientSquared += lengthSquared(constraintGradientOfNeighbor(c, rij));
-    }
-    density += selfDensity(c);
-    // The walls and solids are fixed: they add to rho_i and grad_i C_i only.
-    const BoundaryTerms b = boundaryTerms(c, solids, xi);
-    density += boundaryDensity(c, b.kernelSum);
-    gradientI += boundaryConstraintGradient(c, b.gradient);
-
-    const float gradientSquaredSum = lengthSquared(gradientI) + neighborGradientSquared;
-    return {density, lambda(c, densityConstraint(c, density), gradientSquaredSum)};
+    return densityAndLambdaOf(c, solids, ListNeighbors{neighbors}, Array{x}, index(i));
 }
 
 Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
                         std::span<const float> lambdas, NeighborIndices neighbors, std::size_t i) {
-    const Vec3 xi = x[i];
-    Vec3 dp{};
-    for (const std::uint32_t j : neighbors)
-        dp += positionCorrectionTerm(c, lambdas[i], lambdas[j], xi - x[j]);
-    dp += boundaryPositionCorrection(c, lambdas[i], boundaryTerms(c, solids, xi).gradient);
-    return dp;
+    return positionCorrectionOf(c, solids, ListNeighbors{neighbors}, Array{x}, Array{lambdas},
+                                index(i));
 }
 
 SolidCorrection solidCorrection(const SolverConstants& c, const SolidSet& solids, float lambdaI,
                                 const Vec3& xi) {
-    const boundary::SolidContribution s = boundary::solidContribution(c, solids, xi);
-    return {s.solid, boundaryPositionCorrection(c, lambdaI, s.gradient)};
+    return solidCorrectionOf(c, solids, lambdaI, xi);
 }
 
 Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec3> x,
                   std::span<const Vec3> v, std::span<const float> rho, NeighborIndices neighbors,
                   std::size_t i) {
-    Vec3 dv{};
-    for (const std::uint32_t j : neighbors)
-        dv += xsphTerm(c, viscosity, x[i] - x[j], v[i], v[j], rho[i], rho[j]);
-    return v[i] + dv;
+    return xsphVelocityOf(c, viscosity, ListNeighbors{neighbors}, Array{x}, Array{v}, Array{rho},
+                          index(i));
 }
 
 Vec3 viscosityAcceleration(const SolverConstants& c, float nu, std::span<const Vec3> x,
@@ -96,20 +78,14 @@ Vec3 viscosityAcceleration(const SolverConstants& c, float nu, std::span<const V
 
 Vec3 vorticity(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> v,
                std::span<const float> rho, NeighborIndices neighbors, std::size_t i) {
-    Vec3 omega{};
-    for (const std::uint32_t j : neighbors)
-        omega += vorticityTerm(c, x[i] - x[j], v[i], v[j], rho[j]);
-    return omega;
+    return vorticityOf(c, ListNeighbors{neighbors}, Array{x}, Array{v}, Array{rho}, index(i));
 }
 
 Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        std::span<const Vec3> omega, std::span<const float> rho,
                        NeighborIndices neighbors, std::size_t i) {
-    const float magnitudeI = length(omega[i]);
-    Vec3 eta{};
-    for (const std::uint32_t j : neighbors)
-        eta += vorticityGradientTerm(c, x[i] - x[j], magnitudeI, length(omega[j]), rho[j]);
-    return eta;
+    return vorticityGradientOf(c, ListNeighbors{neighbors}, Array{x}, Array{omega}, Array{rho},
+                               index(i));
 }
 
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,

@@ -1,15 +1,14 @@
 // The neighbour sums of the reference backend, one particle at a time
-// (private header): each function evaluates one quantity of Macklin &
-// Mueller 2013 for particle i from the terms of equations.hpp, in the
-// plainest order (neighbours in list order, then the self term, then the
-// walls and solids). The backend calls them for every particle; the tests
-// call them to compare the SIMD passes with the paper.
+// (private header): the sums of neighbor_sums.hpp over the reference's
+// neighbour lists and arrays of Vec3. The backend calls them for every
+// particle; the tests call them to compare the SIMD passes with the paper.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "backend/reference/neighbor_sums.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
 #include "pbf/geometry/solids.hpp"
@@ -17,11 +16,6 @@
 namespace pbf::reference {
 
 using NeighborIndices = std::span<const std::uint32_t>;
-
-struct DensityAndLambda {
-    float density = 0.0f;  // rho_i, eq. 2
-    float lambda = 0.0f;   // lambda_i, eq. 11
-};
 
 // Eq. 1-2 and 8-11 at the positions x (the current x*); `solids` may be null.
 DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* solids,
@@ -32,14 +26,7 @@ DensityAndLambda densityAndLambda(const SolverConstants& c, const SolidSet* soli
 Vec3 positionCorrection(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
                         std::span<const float> lambdas, NeighborIndices neighbors, std::size_t i);
 
-// The part of eq. 14 that the nearest solid contributes at x_i (it carries
-// no lambda: lambda_i (m/rho0) times its share of grad_i C_i) and which solid
-// that is (boundary::kNoSolid and zero when none is in reach): the move
-// whose reaction a coupled solid feels.
-struct SolidCorrection {
-    std::size_t solid = 0;
-    Vec3 displacement;
-};
+// solidCorrectionOf (neighbor_sums.hpp) for the host's solids.
 SolidCorrection solidCorrection(const SolverConstants& c, const SolidSet& solids, float lambdaI,
                                 const Vec3& xi);
 

@@ -1,0 +1,405 @@
+// The GPU backend's kernels (private header): one PBF_HD functor per stage
+// of Algorithm 1 (Macklin & Mueller 2013), called for one particle index by
+// thrust::for_each over a counting range. They hold raw pointers into
+// device memory and call the reference backend's equations and neighbour
+// sums (backend/reference/equations.hpp, neighbor_sums.hpp) and the shared
+// boundary terms (backend/boundary.hpp) on the device's solids
+// (device_solids.hpp): the maths the CPU build of this code is tested with
+// is the maths the GPU runs.
+//
+// Every kernel writes only entry i of its outputs and reads the previous
+// stage's arrays (Jacobi), so results do not depend on the order or the
+// number of threads; no atomics anywhere.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "backend/boundary.hpp"
+#include "backend/cpu/grid_stencil.hpp"
+#include "backend/gpu/device_solids.hpp"
+#include "backend/reference/equations.hpp"
+#include "backend/reference/neighbor_sums.hpp"
+#include "core/blocks.hpp"
+#include "core/iteration_control.hpp"
+#include "core/particle_checks.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
+
+namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
+
+// "No solid" in the 32-bit reaction records.
+inline constexpr std::uint32_t kNoSolid32 = 0xffffffffu;
+
+// A 3-vector attribute stored as three float arrays (structure of arrays).
+struct Float3View {
+    float* x = nullptr;
+    float* y = nullptr;
+    float* z = nullptr;
+    PBF_HD Vec3 operator()(std::uint32_t i) const { return {x[i], y[i], z[i]}; }
+    PBF_HD void set(std::uint32_t i, const Vec3& v) const {
+        x[i] = v.x;
+        y[i] = v.y;
+        z[i] = v.z;
+    }
+};
+
+// A float attribute.
+struct FloatView {
+    float* values = nullptr;
+    PBF_HD float operator()(std::uint32_t i) const { return values[i]; }
+};
+
+// The neighbours of particle i as the reference's lists would hold them:
+// the particles j != i of the 27 cells around i's cell (grid_stencil.hpp,
+// the CPU backend's walk, rows farther than h skipped) that were closer than
+// h at the neighbour search (`search`: x* when the grid was built). The
+// iterations then move x*, but the set of pairs stays that of the search,
+// as with the CPU and reference backends' lists; the kernels evaluate the
+// pairs at the current positions (zero beyond h). In increasing index order.
+struct StencilNeighbors {
+    grid::GridView grid;
+    Float3View search;
+    float radiusSquared = 0.0f;
+    std::uint32_t i = 0;
+
+    template <class Visit>
+    PBF_HD void operator()(Visit&& visit) const {
+        const Vec3 xi = search(i);
+        grid::forEachStencilRow(grid, xi, [&](std::uint32_t first, std::uint32_t last) {
+            for (std::uint32_t j = first; j < last; ++j) {
+                if (j == i) continue;
+                if (lengthSquared(xi - search(j)) < radiusSquared) visit(j);
+            }
+        });
+    }
+};
+
+// The grid of the step's neighbour search.
+struct SearchGrid {
+    grid::GridView grid;
+    Float3View search;
+    float radiusSquared = 0.0f;
+    PBF_HD StencilNeighbors of(std::uint32_t i) const { return {grid, search, radiusSquared, i}; }
+};
+
+// The solids of a kernel: none, or the device view.
+struct SolidsArgument {
+    DeviceSolids solids;
+    bool present = false;
+    PBF_HD const DeviceSolids* get() const { return present ? &solids : nullptr; }
+};
+
+// One slot of reaction records (backend/reactions.hpp): which solid moved
+// particle i, where, and by how much. Written for every particle by a
+// recording stage (kNoSolid32 where none did), then folded into per-block
+// sums (FoldReactions). Null `solid`: the stage records nothing.
+struct ReactionSlot {
+    std::uint32_t* solid = nullptr;
+    Float3View at;
+    Float3View move;
+    PBF_HD bool active() const { return solid != nullptr; }
+    PBF_HD void record(std::uint32_t i, std::size_t touched, const Vec3& x, const Vec3& d) const {
+        solid[i] = touched == boundary::kNoSolid ? kNoSolid32 : static_cast<std::uint32_t>(touched);
+        at.set(i, x);
+        move.set(i, d);
+    }
+};
+
+// Alg. 1 l. 1-3: v += dt g; x* = x + dt v, into the collision box.
+struct PredictKernel {
+    Aabb box;
+    Vec3 gravity;
+    float dt = 0.0f;
+    Float3View position, velocity, predicted;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 v = velocity(i) + dt * gravity;
+        velocity.set(i, v);
+        predicted.set(i, boundary::clampToBox(box, position(i) + dt * v));
+    }
+};
+
+// The warm start (reference::warmStart): x* += w dt^2 a for particles that
+// ended their last substep compressed, kept in the collision box.
+struct WarmStartKernel {
+    SolverConstants c;
+    float warm = 0.0f;  // solver.warm_start
+    float dt = 0.0f;
+    Float3View predicted, solveAcceleration;
+    const float* density = nullptr;  // the last substep's: the warm start's test
+    PBF_HD void operator()(std::uint32_t i) const {
+        predicted.set(
+            i, boundary::clampToBox(c.collisionBox,
+                                    reference::warmStart(c, predicted(i), solveAcceleration(i),
+                                                         density[i], warm, dt)));
+    }
+};
+
+// Alg. 1 l. 4: the swept collision of x -> x* with the solids; records a
+// coupled solid's push.
+struct CollideSolidsKernel {
+    SolverConstants c;
+    DeviceSolids solids;
+    Float3View position, predicted;
+    ReactionSlot reactions;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 before = predicted(i);
+        std::size_t touched = boundary::kNoSolid;
+        const Vec3 x = boundary::resolveSolidCollision(c, solids, position(i), before, &touched);
+        if (reactions.active()) reactions.record(i, touched, x, x - before);
+        predicted.set(i, x);
+    }
+};
+
+// The cell of x*_i (grid_stencil.hpp's numbering) and the identity
+// permutation, for the stable sort by cell.
+struct CellKeyKernel {
+    grid::GridView grid;
+    Float3View predicted;
+    std::uint32_t* keys = nullptr;
+    std::uint32_t* order = nullptr;
+    PBF_HD void operator()(std::uint32_t i) const {
+        keys[i] = grid.cellIndexOf(predicted(i));
+        order[i] = i;
+    }
+};
+
+// Eq. 1-2 and 8-11: rho_i and lambda_i at the current x*.
+struct DensityLambdaKernel {
+    SolverConstants c;
+    SolidsArgument solids;
+    SearchGrid search;
+    Float3View predicted;
+    float* density = nullptr;
+    float* lambda = nullptr;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const reference::DensityAndLambda r =
+            reference::densityAndLambdaOf(c, solids.get(), search.of(i), predicted, i);
+        density[i] = r.density;
+        lambda[i] = r.lambda;
+    }
+};
+
+// The iteration control's measure of particle i: C_i in fixed point
+// (core/iteration_control.hpp), summed exactly in any order.
+struct CompressionOf {
+    SolverConstants c;
+    const float* density = nullptr;
+    PBF_HD std::int64_t operator()(std::uint32_t i) const {
+        return fixedPointCompression(reference::densityConstraint(c, density[i]));
+    }
+};
+
+// Eq. 12-14 and Alg. 1 l. 16-18: x* + omega dp into the collision box and
+// out of the solids (swept from x), written to `corrected` (Jacobi: every
+// particle reads the same x* and lambdas). Records the coupled solids'
+// boundary term (slot 0) and projection (slot 1).
+struct CorrectionKernel {
+    SolverConstants c;
+    SolidsArgument solids;
+    SearchGrid search;
+    Float3View position, predicted, corrected;
+    FloatView lambda;
+    ReactionSlot boundaryTerm, projection;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 dp =
+            reference::positionCorrectionOf(c, solids.get(), search.of(i), predicted, lambda, i);
+        const Vec3 xi = predicted(i);
+        Vec3 moved = boundary::clampToBox(c.collisionBox, xi + reference::overRelaxed(c, dp));
+        if (solids.present) {
+            const Vec3 unprojected = moved;
+            std::size_t touched = boundary::kNoSolid;
+            moved = boundary::resolveSolidCollision(c, solids.solids, position(i), moved, &touched);
+            if (boundaryTerm.active()) {
+                const reference::SolidCorrection s =
+                    reference::solidCorrectionOf(c, solids.solids, lambda(i), xi);
+                boundaryTerm.record(i, s.solid, xi, reference::overRelaxed(c, s.displacement));
+                projection.record(i, touched, moved, moved - unprojected);
+            }
+        }
+        corrected.set(i, moved);
+    }
+};
+
+// After the iterations, for the warm start: the step's pressure
+// acceleration (reference::solveAcceleration, v still the predicted velocity).
+struct RecordSolveAccelerationKernel {
+    float dt = 0.0f;
+    Float3View position, predicted, velocity, solveAcceleration;
+    PBF_HD void operator()(std::uint32_t i) const {
+        solveAcceleration.set(
+            i, reference::solveAcceleration(position(i), predicted(i), velocity(i), dt));
+    }
+};
+
+// Alg. 1 l. 21: v = (x* - x) / dt.
+struct UpdateVelocityKernel {
+    float dt = 0.0f;
+    Float3View position, predicted, velocity;
+    PBF_HD void operator()(std::uint32_t i) const {
+        velocity.set(i, reference::velocityFromPositions(position(i), predicted(i), dt));
+    }
+};
+
+// Alg. 1 l. 22, first pass: XSPH viscosity (eq. 17) into `post`, and the
+// vorticity omega_i (eq. 15) when confinement is on, from v and the last
+// density pass's rho (Jacobi).
+struct XsphVorticityKernel {
+    SolverConstants c;
+    float viscosity = 0.0f;
+    SearchGrid search;
+    Float3View predicted, velocity, post, vorticity;  // vorticity.x null: confinement off
+    FloatView density;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const StencilNeighbors neighbors = search.of(i);
+        post.set(
+            i, reference::xsphVelocityOf(c, viscosity, neighbors, predicted, velocity, density, i));
+        if (vorticity.x)
+            vorticity.set(i, reference::vorticityOf(c, neighbors, predicted, velocity, density, i));
+    }
+};
+
+// Second pass: vorticity confinement (eq. 16) adds dt a_i to particle i's
+// velocity (XSPH's result); it reads only the neighbours' omega and rho.
+struct ConfinementKernel {
+    SolverConstants c;
+    float epsilon = 0.0f;
+    float dt = 0.0f;
+    SearchGrid search;
+    Float3View predicted, vorticity, velocity;
+    FloatView density;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 eta =
+            reference::vorticityGradientOf(c, search.of(i), predicted, vorticity, density, i);
+        velocity.set(
+            i, velocity(i) + dt * reference::vorticityConfinement(c, epsilon, eta, vorticity(i)));
+    }
+};
+
+// Restitution and friction on the walls and solids, then x = x* (Alg. 1
+// l. 23). Records a coupled solid's velocity change dv as the move dv dt.
+struct RespondCommitKernel {
+    SolverConstants c;
+    float restitution = 0.0f;
+    float friction = 0.0f;
+    float dt = 0.0f;
+    SolidsArgument solids;
+    Float3View predicted, velocity, position;
+    ReactionSlot reactions;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 x = predicted(i);
+        Vec3 v = boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity(i));
+        if (solids.present) {
+            const Vec3 before = v;
+            std::size_t touched = boundary::kNoSolid;
+            v = boundary::respondToSolids(solids.solids, c.particleRadius, restitution, friction, x,
+                                          v, &touched);
+            if (reactions.active()) reactions.record(i, touched, x, (v - before) * dt);
+        }
+        velocity.set(i, v);
+        position.set(i, x);
+    }
+};
+
+// The coupled solids' reaction records of one stage folded into per-block
+// sums: block b (detail::kBlockSize particle indices) adds its particles'
+// records in index order, slot by slot, into sums[b][solid] (six doubles:
+// the moves and their moments about the solid's origin), exactly as
+// ReactionAccumulator::add does on the host. One thread per block: fixed
+// order, no atomics.
+struct FoldReactions {
+    std::uint32_t particles = 0;
+    std::uint32_t solidCount = 0;
+    const std::uint8_t* coupled = nullptr;
+    const Vec3* origins = nullptr;
+    ReactionSlot slots[2];
+    int slotCount = 1;
+    double* sums = nullptr;  // [block][solid][6]
+    PBF_HD void operator()(std::uint32_t block) const {
+        const std::uint32_t begin = block * static_cast<std::uint32_t>(detail::kBlockSize);
+        const std::uint32_t end = begin + static_cast<std::uint32_t>(detail::kBlockSize) < particles
+                                      ? begin + static_cast<std::uint32_t>(detail::kBlockSize)
+                                      : particles;
+        for (std::uint32_t i = begin; i < end; ++i)
+            for (int s = 0; s < slotCount; ++s) {
+                const std::uint32_t k = slots[s].solid[i];
+                if (k >= solidCount || !coupled[k]) continue;
+                const Vec3 d = slots[s].move(i);
+                const Vec3 moment = cross(slots[s].at(i) - origins[k], d);
+                double* sum = sums + (std::size_t(block) * solidCount + k) * 6;
+                sum[0] += d.x;
+                sum[1] += d.y;
+                sum[2] += d.z;
+                sum[3] += moment.x;
+                sum[4] += moment.y;
+                sum[5] += moment.z;
+            }
+    }
+};
+
+// Solid k's total over the blocks, in block order.
+struct TotalReactions {
+    std::uint32_t blocks = 0;
+    std::uint32_t solidCount = 0;
+    const double* sums = nullptr;
+    double* totals = nullptr;  // [solid][6]
+    PBF_HD void operator()(std::uint32_t k) const {
+        double t[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        for (std::uint32_t b = 0; b < blocks; ++b)
+            for (int a = 0; a < 6; ++a) t[a] += sums[(std::size_t(b) * solidCount + k) * 6 + a];
+        for (int a = 0; a < 6; ++a) totals[std::size_t(k) * 6 + a] = t[a];
+    }
+};
+
+// The number of neighbours of particle i (for `pbf bench`).
+struct NeighborCount {
+    SearchGrid search;
+    PBF_HD std::uint64_t operator()(std::uint32_t i) const {
+        std::uint64_t count = 0;
+        search.of(i)([&](std::uint32_t) { ++count; });
+        return count;
+    }
+};
+
+// |v_i|^2, for the largest speed (a max: exact in any order).
+struct SpeedSquared {
+    Float3View velocity;
+    PBF_HD float operator()(std::uint32_t i) const { return lengthSquared(velocity(i)); }
+};
+
+// The state guard's test (core/particle_checks.hpp): i if particle i is
+// bad, else the largest index; the minimum over all is the first bad one.
+struct BadIndex {
+    Float3View position, velocity;
+    double limit2 = 0.0;
+    PBF_HD std::uint64_t operator()(std::uint32_t i) const {
+        return detail::badParticle(position(i), velocity(i), limit2) ? std::uint64_t(i)
+                                                                     : ~std::uint64_t(0);
+    }
+};
+
+// The statistics' partial sums of block b, in index order
+// (core/particle_checks.hpp, as core/statistics.cpp sums them).
+struct StatisticsBlock {
+    SolverConstants c;
+    Aabb domain;
+    SolidsArgument solids;
+    float particleRadius = 0.0f;
+    std::uint32_t particles = 0;
+    Float3View position, velocity;
+    const float* density = nullptr;
+    detail::StatisticsPartial* partials = nullptr;
+    PBF_HD void operator()(std::uint32_t block) const {
+        const std::uint32_t begin = block * static_cast<std::uint32_t>(detail::kBlockSize);
+        const std::uint32_t end = begin + static_cast<std::uint32_t>(detail::kBlockSize) < particles
+                                      ? begin + static_cast<std::uint32_t>(detail::kBlockSize)
+                                      : particles;
+        detail::StatisticsPartial s;
+        for (std::uint32_t i = begin; i < end; ++i)
+            s.add(c, domain, solids.get(), particleRadius, position(i), velocity(i), density[i]);
+        partials[block] = s;
+    }
+};
+
+}  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE

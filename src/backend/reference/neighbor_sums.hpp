@@ -1,0 +1,137 @@
+// The per-particle neighbour sums of Macklin & Mueller 2013, written once
+// for any way of visiting a particle's neighbours (private header): the
+// reference backend visits its neighbour lists (particle_sums.cpp), the GPU
+// backend the sorted grid's stencil (backend/gpu). Each function evaluates
+// one quantity for particle i from the terms of equations.hpp, in the
+// plainest order: neighbours in the order visited, then the self term, then
+// the walls and solids (backend/boundary.hpp).
+//
+// `neighbors(visit)` calls visit(j) for every neighbour j of particle i (j
+// != i); the state is read through accessors x(j) (positions), lambda(j),
+// v(j), rho(j), omega(j), so that arrays of Vec3 and structure-of-arrays
+// device memory both fit. PBF_HD: the GPU kernels call these.
+#pragma once
+
+#include <cstdint>
+
+#include "backend/boundary.hpp"
+#include "backend/reference/equations.hpp"
+#include "pbf/core/config.hpp"
+#include "pbf/core/solver_constants.hpp"
+#include "pbf/core/vec3.hpp"
+
+namespace pbf::reference {
+
+struct DensityAndLambda {
+    float density = 0.0f;  // rho_i, eq. 2
+    float lambda = 0.0f;   // lambda_i, eq. 11
+};
+
+// The walls' and solids' kernel sum and its gradient at x (backend/boundary.hpp).
+struct BoundaryTerms {
+    float kernelSum = 0.0f;
+    Vec3 gradient;
+};
+
+template <class Solids>
+PBF_HD BoundaryTerms boundaryTerms(const SolverConstants& c, const Solids* solids, const Vec3& x) {
+    BoundaryTerms b;
+    boundary::addWallContribution(c, x, b.kernelSum, b.gradient);
+    boundary::addSolidContribution(c, solids, x, b.kernelSum, b.gradient);
+    return b;
+}
+
+// Eq. 1-2 and 8-11 at the positions x (the current x*); `solids` may be null.
+template <class Solids, class Neighbors, class Positions>
+PBF_HD DensityAndLambda densityAndLambdaOf(const SolverConstants& c, const Solids* solids,
+                                           const Neighbors& neighbors, const Positions& x,
+                                           std::uint32_t i) {
+    const Vec3 xi = x(i);
+    float density = 0.0f;
+    Vec3 gradientI{};                      // grad_{x_i} C_i (eq. 8, k = i)
+    float neighborGradientSquared = 0.0f;  // sum_j |grad_{x_j} C_i|^2 (eq. 8, k = j)
+    neighbors([&](std::uint32_t j) {
+        const Vec3 rij = xi - x(j);
+        density += densityTerm(c, rij);
+        gradientI += constraintGradientOfSelfTerm(c, rij);
+        neighborGradientSquared += lengthSquared(constraintGradientOfNeighbor(c, rij));
+    });
+    density += selfDensity(c);
+    // The walls and solids are fixed: they add to rho_i and grad_i C_i only.
+    const BoundaryTerms b = boundaryTerms(c, solids, xi);
+    density += boundaryDensity(c, b.kernelSum);
+    gradientI += boundaryConstraintGradient(c, b.gradient);
+
+    const float gradientSquaredSum = lengthSquared(gradientI) + neighborGradientSquared;
+    return {density, lambda(c, densityConstraint(c, density), gradientSquaredSum)};
+}
+
+// Eq. 12-14: dp_i from the lambdas of particle i and its neighbours.
+template <class Solids, class Neighbors, class Positions, class Lambdas>
+PBF_HD Vec3 positionCorrectionOf(const SolverConstants& c, const Solids* solids,
+                                 const Neighbors& neighbors, const Positions& x,
+                                 const Lambdas& lambdas, std::uint32_t i) {
+    const Vec3 xi = x(i);
+    const float lambdaI = lambdas(i);
+    Vec3 dp{};
+    neighbors(
+        [&](std::uint32_t j) { dp += positionCorrectionTerm(c, lambdaI, lambdas(j), xi - x(j)); });
+    dp += boundaryPositionCorrection(c, lambdaI, boundaryTerms(c, solids, xi).gradient);
+    return dp;
+}
+
+// The part of eq. 14 that the nearest solid contributes at x_i (it carries
+// no lambda: lambda_i (m/rho0) times its share of grad_i C_i) and which solid
+// that is (boundary::kNoSolid and zero when none is in reach): the move
+// whose reaction a coupled solid feels.
+struct SolidCorrection {
+    std::size_t solid = 0;
+    Vec3 displacement;
+};
+
+template <class Solids>
+PBF_HD SolidCorrection solidCorrectionOf(const SolverConstants& c, const Solids& solids,
+                                         float lambdaI, const Vec3& xi) {
+    const boundary::SolidContribution s = boundary::solidContribution(c, solids, xi);
+    return {s.solid, boundaryPositionCorrection(c, lambdaI, s.gradient)};
+}
+
+// Eq. 17: v_i after XSPH viscosity, from the velocities v and densities rho
+// of the state before XSPH (Jacobi: no neighbour has been updated yet).
+template <class Neighbors, class Positions, class Velocities, class Densities>
+PBF_HD Vec3 xsphVelocityOf(const SolverConstants& c, float viscosity, const Neighbors& neighbors,
+                           const Positions& x, const Velocities& v, const Densities& rho,
+                           std::uint32_t i) {
+    const Vec3 xi = x(i), vi = v(i);
+    const float rhoI = rho(i);
+    Vec3 dv{};
+    neighbors(
+        [&](std::uint32_t j) { dv += xsphTerm(c, viscosity, xi - x(j), vi, v(j), rhoI, rho(j)); });
+    return vi + dv;
+}
+
+// Eq. 15: the vorticity omega_i, from the same state as xsphVelocityOf.
+template <class Neighbors, class Positions, class Velocities, class Densities>
+PBF_HD Vec3 vorticityOf(const SolverConstants& c, const Neighbors& neighbors, const Positions& x,
+                        const Velocities& v, const Densities& rho, std::uint32_t i) {
+    const Vec3 xi = x(i), vi = v(i);
+    Vec3 omega{};
+    neighbors([&](std::uint32_t j) { omega += vorticityTerm(c, xi - x(j), vi, v(j), rho(j)); });
+    return omega;
+}
+
+// Eq. 16: eta_i = grad |omega| at x_i (SPH difference form).
+template <class Neighbors, class Positions, class Vorticities, class Densities>
+PBF_HD Vec3 vorticityGradientOf(const SolverConstants& c, const Neighbors& neighbors,
+                                const Positions& x, const Vorticities& omega, const Densities& rho,
+                                std::uint32_t i) {
+    const Vec3 xi = x(i);
+    const float magnitudeI = length(omega(i));
+    Vec3 eta{};
+    neighbors([&](std::uint32_t j) {
+        eta += vorticityGradientTerm(c, xi - x(j), magnitudeI, length(omega(j)), rho(j));
+    });
+    return eta;
+}
+
+}  // namespace pbf::reference
