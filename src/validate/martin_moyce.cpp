@@ -303,10 +303,11 @@ CaseResult run(const Options& options) {
                             "RMS difference",
                             {}};
     convergence.logX = convergence.logY = true;
-    plot::Panel raw{"Surge front as simulated (no delay): instant release, a gate, surface tension",
-                    "T = n t sqrt(g/a)",
-                    "Z = x / a",
-                    {}};
+    plot::Panel raw{
+        "Surge front as simulated (no delay): instant release, a gate (full run: surface tension)",
+        "T = n t sqrt(g/a)",
+        "Z = x / a",
+        {}};
     plot::Panel tongue{"Simulated depth where the experiment saw its front (no delay)",
                        "T = n t sqrt(g/a)",
                        "depth at x = Z_exp a (mm)",
