@@ -882,28 +882,28 @@ class DeviceBackend final : public Backend {
         // The physical viscosity (fluid.kinematic_viscosity) reads the
         // velocities XSPH read (post_ after XSPH's swap; a copy when XSPH is
         // off) and adds dt a to XSPH's result, as the CPU stage does.
-        plan_.add(Part::After,
-                  {Stage::PhysicalViscosity,
-                   [this, xsphOn](DeviceStep& s) {
-                       if (!xsphOn(s)) {
-                           thrust::copy(thrust::device, p_.velocity.x.begin(), p_.velocity.x.end(),
-                                        post_.x.begin());
-                           thrust::copy(thrust::device, p_.velocity.y.begin(), p_.velocity.y.end(),
-                                        post_.y.begin());
-                           thrust::copy(thrust::device, p_.velocity.z.begin(), p_.velocity.z.end(),
-                                        post_.z.begin());
-                       }
-                       forEachIndex(p_.size(), PhysicalViscosityKernel{
-                                                   s.context.constants,
-                                                   s.context.params.fluid.kinematicViscosity,
-                                                   s.dt,
-                                                   s.search,
-                                                   p_.predicted.view(),
-                                                   post_.view(),
-                                                   p_.velocity.view(),
-                                                   {raw(p_.density)}});
-                   },
-                   physicalViscosityOn});
+        plan_.add(Part::After, {Stage::PhysicalViscosity,
+                                [this, xsphOn](DeviceStep& s) {
+                                    if (!xsphOn(s)) {
+                                        thrust::copy(thrust::device, p_.velocity.x.begin(),
+                                                     p_.velocity.x.end(), post_.x.begin());
+                                        thrust::copy(thrust::device, p_.velocity.y.begin(),
+                                                     p_.velocity.y.end(), post_.y.begin());
+                                        thrust::copy(thrust::device, p_.velocity.z.begin(),
+                                                     p_.velocity.z.end(), post_.z.begin());
+                                    }
+                                    forEachIndex(p_.size(),
+                                                 PhysicalViscosityKernel{
+                                                     s.context.constants,
+                                                     s.context.params.fluid.kinematicViscosity,
+                                                     s.dt,
+                                                     s.search,
+                                                     p_.predicted.view(),
+                                                     post_.view(),
+                                                     p_.velocity.view(),
+                                                     {raw(p_.density)}});
+                                },
+                                physicalViscosityOn});
         plan_.add(Part::After, {Stage::VorticityConfinement,
                                 [this](DeviceStep& s) {
                                     forEachIndex(p_.size(),

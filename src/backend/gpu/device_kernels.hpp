@@ -290,8 +290,8 @@ struct PhysicalViscosityKernel {
     Float3View predicted, before, velocity;
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
-        const Vec3 a = reference::viscosityAccelerationOf(c, nu, search.of(i), predicted, before,
-                                                          density, i);
+        const Vec3 a =
+            reference::viscosityAccelerationOf(c, nu, search.of(i), predicted, before, density, i);
         velocity.set(i, velocity(i) + a * dt);
     }
 };
