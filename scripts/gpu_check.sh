@@ -51,8 +51,8 @@ PBF_TEST_DEVICE=cuda ctest --preset release -R 'Device|device|^python$' -j 1 2>&
 ./build/release/pbf bench --device cuda --sizes "$sizes" --steps "$steps" 2>&1 | tee "$out/bench_cuda.txt"
 ./build/release/pbf bench --device cpu --sizes "$sizes" --steps 5 --warmup 2 2>&1 | tee "$out/bench_cpu.txt"
 # The optional terms' stages (surface tension with adhesion, the physical
-# viscosity) at the middle size: their cost on the GPU (the stage table's
-# surface_tension and physical_viscosity rows).
+# viscosity) at 1M: their cost on the GPU is the growth of the `post` column
+# over bench_cuda.txt's 1M row.
 ./build/release/pbf bench --device cuda --sizes 1M --steps "$steps" \
   --set fluid.surface_tension=0.0728 --set solver.wall_adhesion=0.5 \
   --set fluid.kinematic_viscosity=1e-6 2>&1 | tee "$out/bench_cuda_surface_tension.txt"

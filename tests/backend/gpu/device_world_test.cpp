@@ -236,7 +236,8 @@ TEST(DeviceWorld, OneAndTwoThreadsGiveTheSameBits) {
 // adaptive substeps (the capillary time step limits them). Only surface
 // tension moves anything: the cube rounds off, wets the floor and the
 // sphere, and pulls the body towards it (the adhesion's reaction on the
-// body). `extra` adds fields to "fluid".
+// body). `extra` adds fields to "fluid". 4100 frames per second: one
+// capillary substep (0.25 ms) per frame.
 Scene surfaceTensionDrop(const std::string& extra = "") {
     return parseScene(R"({
       "name": "surface_tension_drop",
@@ -251,7 +252,7 @@ Scene surfaceTensionDrop(const std::string& extra = "") {
       "rigid_bodies": [{"type": "box", "min": [-0.009, -0.003, -0.003],
                         "max": [-0.005, 0.003, 0.003], "density": 300, "adhesion": 0.8}],
       "solver": {"iterations": 4, "time_step": "adaptive", "wall_adhesion": 0.6},
-      "output": {"fps": 200}
+      "output": {"fps": 4100}
     })",
                       "surface_tension_drop");
 }
@@ -270,20 +271,29 @@ double particlesAndBody(const World& a, const World& b) {
 // term is far outside the drift), a solid's or body's adhesion not
 // uploaded, the body's reaction not recorded (the body's drift), and a
 // substep count that differs from the CPU's (the capillary limit).
+//
+// The flow is far more sensitive than the dam break: the cohesion pulls only
+// beyond one spacing and flags surface particles by a density threshold,
+// and the cube starts on the lattice (pairs exactly one spacing apart), so
+// the one-ulp twin jumps from 1e-6 to 0.02 spacings at the second substep
+// and reaches ~0.8 by the twentieth. The test therefore holds the device
+// to the twin's drift (times 4, as always) and allows 1 spacing in all; a
+// wrong term shows at the first substep, where the twin is at 1e-6.
 TEST(DeviceWorld, SurfaceTensionAndAdhesionAgreeWithTheCpu) {
     PBF_REQUIRE_DEVICE();
     DriftOptions options;
-    options.substeps = 30;
+    options.substeps = 15;
+    options.visible = 1.0;
     options.distance = particlesAndBody;
     const Scene scene = surfaceTensionDrop();
     const double capillary = SolverConstants::from(scene.simulation).capillaryTimeStep;
     options.afterFrame = [&](int frame, const World& cpu, const FrameResult& cpuFrame,
                              const World& device, const FrameResult& deviceFrame) {
         EXPECT_EQ(deviceFrame.report.substeps, cpuFrame.report.substeps) << "frame " << frame;
-        // The capillary time step sets them (the flow is slow).
-        EXPECT_EQ(cpuFrame.report.substeps, int(std::ceil((1.0 / 200.0) / capillary - 1e-6)))
+        // The capillary time step sets them (the flow is slow: CFL allows more).
+        EXPECT_EQ(cpuFrame.report.substeps, int(std::ceil((1.0 / 4100.0) / capillary - 1e-6)))
             << "frame " << frame;
-        if (frame < 30) return;
+        if (frame < 15) return;
         // Surface tension moved the water, and the adhesion's reaction the
         // body towards it (+x), on both.
         EXPECT_GT(device.report().state.maxSpeed, 1e-3);
@@ -312,9 +322,9 @@ TEST(DeviceWorld, PhysicalViscosityAfterXsphAgreesWithTheCpu) {
 // 0.05): the device takes the CPU's substeps.
 TEST(DeviceWorld, PhysicalViscosityWithSurfaceTensionAgreesWithTheCpu) {
     PBF_REQUIRE_DEVICE();
-    const Scene scene = surfaceTensionDrop(R"(, "viscosity": 0, "kinematic_viscosity": 2e-5)");
+    const Scene scene = surfaceTensionDrop(R"(, "viscosity": 0, "kinematic_viscosity": 5e-4)");
     const double spacing = scene.simulation.particleSpacing();
-    const double diffusion = 0.05 * spacing * spacing / 2e-5;
+    const double diffusion = 0.05 * spacing * spacing / 5e-4;
     ASSERT_LT(diffusion, SolverConstants::from(scene.simulation).capillaryTimeStep);
     DriftOptions options;
     options.substeps = 20;
@@ -322,7 +332,7 @@ TEST(DeviceWorld, PhysicalViscosityWithSurfaceTensionAgreesWithTheCpu) {
     options.afterFrame = [&](int frame, const World&, const FrameResult& cpuFrame, const World&,
                              const FrameResult& deviceFrame) {
         EXPECT_EQ(deviceFrame.report.substeps, cpuFrame.report.substeps) << "frame " << frame;
-        EXPECT_EQ(cpuFrame.report.substeps, int(std::ceil((1.0 / 200.0) / diffusion - 1e-6)))
+        EXPECT_EQ(cpuFrame.report.substeps, int(std::ceil((1.0 / 4100.0) / diffusion - 1e-6)))
             << "frame " << frame;
     };
     expectDriftWithinOneUlpSensitivity(scene, BackendKind::Cpu, deviceUnderTest(), options);
@@ -338,7 +348,7 @@ TEST(DeviceWorld, SurfaceTensionGivesTheSameBitsOnOneAndTwoThreads) {
     const auto run = [&](int threads) {
         setThreadCount(threads);
         World world(scene, onDevice());
-        for (int frame = 0; frame < 10; ++frame) stepFrame(world);
+        for (int frame = 0; frame < 40; ++frame) stepFrame(world);
         setThreadCount(hardwareThreadCount());
         return world.captureState();
     };
