@@ -38,6 +38,14 @@ struct StageOutputs {
     std::vector<Vec3> velocity;          // (x* - x) / dt
     std::vector<Vec3> xsphVelocity;      // after XSPH
     std::vector<Vec3> vorticity;         // omega (with fluid.vorticity > 0)
+    // With fluid.kinematic_viscosity > 0: v + (1 s) nu lap v, the physical
+    // viscosity's stage applied to v with a step of 1 s (so that a stands
+    // out against v when read back).
+    std::vector<Vec3> viscosityVelocity;
+    // Given surface-tension settings: v + dt a, surface tension's stage at
+    // x* with the density pass's rho, with those settings' constants and
+    // solver.wall_adhesion (the other stages keep `params`' constants).
+    std::vector<Vec3> surfaceTensionVelocity;
 };
 
 namespace on_gpu {
@@ -45,14 +53,16 @@ DeviceStatus status();
 // Throws std::runtime_error naming the device when it cannot run here.
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
 StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
-                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt);
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt,
+                       const SimulationParams* surfaceTension);
 }  // namespace on_gpu
 
 namespace on_cpu {
 DeviceStatus status();
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
 StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
-                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt);
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt,
+                       const SimulationParams* surfaceTension);
 }  // namespace on_cpu
 
 // Device memory the backend needs per particle for these settings (the

@@ -14,7 +14,8 @@
 //   density_and_lambda, [compression_totals, convergence_check],
 //   correct_positions (Jacobi)                                 l. 8-19
 //   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
-//   vorticity_confinement, boundary_response (x = x*)          l. 20-24
+//   [physical_viscosity], vorticity_confinement, [surface_tension],
+//   boundary_response (x = x*)                                 l. 20-24
 // The particle fields come from the one list (include/pbf/core/particle_fields.hpp):
 // DeviceParticles has a member per field, and upload, download, append and
 // the reorder visit them through it.
@@ -241,18 +242,21 @@ class DeviceSolidStore {
         std::vector<std::uint8_t> identity(count), coupled(count);
         std::vector<Aabb> bounds(count);
         std::vector<Vec3> origins(count);
+        std::vector<float> adhesions(count);
         for (std::size_t k = 0; k < count; ++k) {
             motions[k] = solids->motion(k);
             identity[k] = solids->identityPose(k) ? 1 : 0;
             coupled[k] = solids->coupled(k) ? 1 : 0;
             bounds[k] = solids->bounds(k);
             origins[k] = motions[k].pose.position;
+            adhesions[k] = solids->adhesion(k);
         }
         motions_ = motions;
         identity_ = identity;
         coupled_ = coupled;
         bounds_ = bounds;
         origins_ = origins;
+        adhesions_ = adhesions;
         DeviceSolids& v = argument.solids;
         v.count = static_cast<std::uint32_t>(count);
         v.shapes = raw(shapes_);
@@ -261,6 +265,7 @@ class DeviceSolidStore {
         v.bounds = raw(bounds_);
         v.coupled = raw(coupled_);
         v.scales = raw(scales_);
+        v.adhesions = raw(adhesions_);
         v.moving = solids->anyMoving();
         argument.present = true;
         return argument;
@@ -270,7 +275,7 @@ class DeviceSolidStore {
     std::size_t bytes() const {
         return bytesOf(shapes_) + bytesOf(samples_) + bytesOf(motions_) + bytesOf(identity_) +
                bytesOf(coupled_) + bytesOf(bounds_) + bytesOf(origins_) + bytesOf(scales_) +
-               bytesOf(scaleValues_);
+               bytesOf(scaleValues_) + bytesOf(adhesions_);
     }
 
   private:
@@ -347,6 +352,7 @@ class DeviceSolidStore {
     DeviceArray<std::uint8_t> identity_, coupled_;
     DeviceArray<Aabb> bounds_;
     DeviceArray<Vec3> origins_;
+    DeviceArray<float> adhesions_;
     DeviceArray<shape::GridSamples> scales_;
     DeviceArray<float> scaleValues_;
 };
@@ -397,25 +403,8 @@ class DeviceBackend final : public Backend {
           grid_(grid::gridLayout(params.domain, params.kernelRadius())),
           sampleSpacing_(0.5f * params.particleRadius),
           sampleMargin_(params.kernelRadius() + 2.0f * params.particleRadius) {
-        refuseMissingTerms(params);
         cellStart_.resize(std::size_t{grid_.n[0]} * grid_.n[1] * grid_.n[2] + 1);
         buildPlan();
-    }
-    // Surface tension (issue 27) and the physical viscosity (issue 28) landed
-    // on the CPU backends after this backend was written: their equations
-    // are in the reference's PBF_HD form, but no device stage calls them yet.
-    // A run that asks for them is refused (at construction, and at a step
-    // after a live change) rather than run without them.
-    void refuseMissingTerms(const SimulationParams& params) const {
-        const auto refuse = [&](const char* path) {
-            // (Not backendName: the field-list test links this header without backend.cpp.)
-            const char* device = kind_ == BackendKind::Cuda ? "cuda" : "cuda-on-cpu";
-            throw std::invalid_argument(std::string("device ") + device + ": " + path +
-                                        " is not implemented on the GPU backend yet "
-                                        "(run it with --device cpu)");
-        };
-        if (params.fluid.surfaceTension > 0.0f) refuse("fluid.surface_tension");
-        if (params.fluid.kinematicViscosity > 0.0f) refuse("fluid.kinematic_viscosity");
     }
     // The plan's stages refer to this backend.
     DeviceBackend(const DeviceBackend&) = delete;
@@ -486,7 +475,6 @@ class DeviceBackend final : public Backend {
         ThreadScope threads;
         if (p_.size() > std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("the GPU backend indexes particles with 32 bits");
-        refuseMissingTerms(context.params);
         DeviceStep s(context, dt);
         s.solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
         prepare(context.params, s.solids, context.solids);
@@ -553,7 +541,8 @@ class DeviceBackend final : public Backend {
 
     // The kernels of one step run one at a time (device_backend.hpp: StageOutputs).
     StageOutputs runStages(const SolverContext& context, std::span<const Vec3> x,
-                           std::span<const Vec3> xStar, float dt) {
+                           std::span<const Vec3> xStar, float dt,
+                           const SimulationParams* surfaceTension) {
         ThreadScope threads;
         ParticleStore state;
         for (std::size_t k = 0; k < x.size(); ++k) {
@@ -613,6 +602,40 @@ class DeviceBackend final : public Backend {
         out.velocity = vectors(p_.velocity);
         out.xsphVelocity = vectors(post_);
         out.vorticity = vectors(vorticity_);
+        // The physical viscosity and surface tension from v = (x* - x) / dt
+        // (p_.velocity, unchanged by XSPH above: its output is post_), each on a
+        // copy of v in corrected_ (read back, no longer needed).
+        const auto copyVelocity = [&](DeviceFloat3& to) {
+            thrust::copy(p_.velocity.x.begin(), p_.velocity.x.end(), to.x.begin());
+            thrust::copy(p_.velocity.y.begin(), p_.velocity.y.end(), to.y.begin());
+            thrust::copy(p_.velocity.z.begin(), p_.velocity.z.end(), to.z.begin());
+        };
+        if (const float nu = context.params.fluid.kinematicViscosity; nu > 0.0f) {
+            copyVelocity(corrected_);
+            forEachIndex(n, PhysicalViscosityKernel{c,
+                                                    nu,
+                                                    1.0f,
+                                                    search,
+                                                    p_.predicted.view(),
+                                                    p_.velocity.view(),
+                                                    corrected_.view(),
+                                                    {raw(p_.density)}});
+            out.viscosityVelocity = vectors(corrected_);
+        }
+        if (surfaceTension) {
+            const SolverConstants cs = SolverConstants::from(*surfaceTension);
+            copyVelocity(corrected_);
+            forEachIndex(n, SurfaceTensionKernel{cs,
+                                                 surfaceTension->solver.wallAdhesion,
+                                                 dt,
+                                                 solids,
+                                                 search,
+                                                 p_.predicted.view(),
+                                                 corrected_.view(),
+                                                 {raw(p_.density)},
+                                                 {}});
+            out.surfaceTensionVelocity = vectors(corrected_);
+        }
         return out;
     }
 
@@ -651,7 +674,9 @@ class DeviceBackend final : public Backend {
         lambda_.resize(n);
         keys_.resize(n);
         order_.resize(n);
-        if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f) post_.resize(n);
+        if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
+            params.fluid.kinematicViscosity > 0.0f)
+            post_.resize(n);
         if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
         if (reactionsActive_) {
@@ -729,6 +754,12 @@ class DeviceBackend final : public Backend {
         };
         const auto vorticityOn = [](const DeviceStep& s) {
             return s.context.params.fluid.vorticity > 0.0f;
+        };
+        const auto xsphOn = [vorticityOn](const DeviceStep& s) {
+            return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
+        };
+        const auto physicalViscosityOn = [](const DeviceStep& s) {
+            return s.context.params.fluid.kinematicViscosity > 0.0f;
         };
         const auto solidsOn = [](const DeviceStep& s) { return s.solids.present; };
         const auto errorControlled = [](const DeviceStep& s) {
@@ -847,9 +878,32 @@ class DeviceBackend final : public Backend {
                        p_.velocity.y.swap(post_.y);
                        p_.velocity.z.swap(post_.z);
                    },
-                   [vorticityOn](const DeviceStep& s) {
-                       return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
-                   }});
+                   xsphOn});
+        // The physical viscosity (fluid.kinematic_viscosity) reads the
+        // velocities XSPH read (post_ after XSPH's swap; a copy when XSPH is
+        // off) and adds dt a to XSPH's result, as the CPU stage does.
+        plan_.add(Part::After, {Stage::PhysicalViscosity,
+                                [this, xsphOn](DeviceStep& s) {
+                                    if (!xsphOn(s)) {
+                                        thrust::copy(thrust::device, p_.velocity.x.begin(),
+                                                     p_.velocity.x.end(), post_.x.begin());
+                                        thrust::copy(thrust::device, p_.velocity.y.begin(),
+                                                     p_.velocity.y.end(), post_.y.begin());
+                                        thrust::copy(thrust::device, p_.velocity.z.begin(),
+                                                     p_.velocity.z.end(), post_.z.begin());
+                                    }
+                                    forEachIndex(p_.size(),
+                                                 PhysicalViscosityKernel{
+                                                     s.context.constants,
+                                                     s.context.params.fluid.kinematicViscosity,
+                                                     s.dt,
+                                                     s.search,
+                                                     p_.predicted.view(),
+                                                     post_.view(),
+                                                     p_.velocity.view(),
+                                                     {raw(p_.density)}});
+                                },
+                                physicalViscosityOn});
         plan_.add(Part::After, {Stage::VorticityConfinement,
                                 [this](DeviceStep& s) {
                                     forEachIndex(p_.size(),
@@ -863,6 +917,25 @@ class DeviceBackend final : public Backend {
                                                                    {raw(p_.density)}});
                                 },
                                 vorticityOn});
+        // Surface tension (issue 27): cohesion and adhesion at x*, v += dt a;
+        // a coupled solid's pull is folded into its reaction (as the CPU's
+        // ReactionAccumulator records it, between confinement and the response).
+        plan_.add(Part::After,
+                  {Stage::SurfaceTension,
+                   [this](DeviceStep& s) {
+                       forEachIndex(p_.size(),
+                                    SurfaceTensionKernel{s.context.constants,
+                                                         s.context.params.solver.wallAdhesion,
+                                                         s.dt,
+                                                         s.solids,
+                                                         s.search,
+                                                         p_.predicted.view(),
+                                                         p_.velocity.view(),
+                                                         {raw(p_.density)},
+                                                         slot(0)});
+                       foldReactions(1);
+                   },
+                   [](const DeviceStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
         plan_.add(Part::After,
                   {Stage::BoundaryResponse, [this](DeviceStep& s) {
                        const SolverParams& solver = s.context.params.solver;
@@ -967,10 +1040,11 @@ class DeviceBackend final : public Backend {
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
 
 StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
-                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt) {
+                       std::span<const Vec3> x, std::span<const Vec3> xStar, float dt,
+                       const SimulationParams* surfaceTension) {
     const SolverConstants constants = SolverConstants::from(params);
     DeviceBackend backend(PBF_DEVICE_KIND, params);
-    return backend.runStages({params, constants, solids}, x, xStar, dt);
+    return backend.runStages({params, constants, solids}, x, xStar, dt, surfaceTension);
 }
 
 }  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE

@@ -277,6 +277,48 @@ struct ConfinementKernel {
     }
 };
 
+// The physical viscosity (fluid.kinematic_viscosity, Monaghan 2005): adds
+// dt nu lap v_i (reference::viscosityAccelerationOf, the walls as free-slip
+// mirrors) to particle i's velocity (XSPH's result, when XSPH ran); the sum
+// reads the velocities before XSPH from `before` (Jacobi, as XSPH reads
+// them) and the last density pass's rho.
+struct PhysicalViscosityKernel {
+    SolverConstants c;
+    float nu = 0.0f;
+    float dt = 0.0f;
+    SearchGrid search;
+    Float3View predicted, before, velocity;
+    FloatView density;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 a =
+            reference::viscosityAccelerationOf(c, nu, search.of(i), predicted, before, density, i);
+        velocity.set(i, velocity(i) + a * dt);
+    }
+};
+
+// Surface tension (issue 27): the cohesion of the surface layer and the
+// walls' and solids' adhesion at the end-of-step x* with the last density
+// pass's rho (reference::surfaceTensionOf), v_i += dt a_i. Reads only the
+// neighbours' x* and rho, so it adds to v in place. Records a coupled
+// solid's pull on the particle as the move dt^2 a (the CPU's reaction).
+struct SurfaceTensionKernel {
+    SolverConstants c;
+    float wallAdhesion = 0.0f;
+    float dt = 0.0f;
+    SolidsArgument solids;
+    SearchGrid search;
+    Float3View predicted, velocity;
+    FloatView density;
+    ReactionSlot reactions;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const reference::SurfaceTensionAcceleration a = reference::surfaceTensionOf(
+            c, wallAdhesion, solids.get(), search.of(i), predicted, density, i);
+        velocity.set(i, velocity(i) + dt * a.total);
+        if (reactions.active())
+            reactions.record(i, a.solid, predicted(i), (dt * dt) * a.solidAcceleration);
+    }
+};
+
 // Restitution and friction on the walls and solids, then x = x* (Alg. 1
 // l. 23). Records a coupled solid's velocity change dv as the move dv dt.
 struct RespondCommitKernel {

@@ -16,8 +16,11 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // lambda, cell keys, the sort's order, one gather buffer, and the
     // sort's own double buffers (keys and values).
     bytes += 2 * vec3 + 4 * scalar + 2 * scalar;
-    if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f) bytes += vec3;  // post v
-    if (params.fluid.vorticity > 0.0f) bytes += vec3;                                   // omega
+    // v after XSPH, or before it for the physical viscosity's Jacobi read.
+    if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
+        params.fluid.kinematicViscosity > 0.0f)
+        bytes += vec3;
+    if (params.fluid.vorticity > 0.0f) bytes += vec3;  // omega
     // Two slots of reaction records (solid, x, d) for coupled solids.
     if (coupledSolids) bytes += 2 * (scalar + 2 * vec3);
     return bytes;

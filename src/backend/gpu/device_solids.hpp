@@ -65,11 +65,13 @@ struct DeviceSolids {
     const Aabb* bounds = nullptr;                // world-space boxes around the surfaces
     const std::uint8_t* coupled = nullptr;       // a rigid body's surface
     const shape::GridSamples* scales = nullptr;  // values null: no boundary scale
+    const float* adhesions = nullptr;            // SolidSet::adhesion (surface tension)
     bool moving = false;
 
     PBF_HD bool anyMoving() const { return moving; }
     PBF_HD const SolidMotion& motion(std::size_t k) const { return motions[k]; }
     PBF_HD bool isCoupled(std::size_t k) const { return k < count && coupled[k] != 0; }
+    PBF_HD float adhesion(std::size_t k) const { return adhesions[k]; }
     PBF_HD bool hasBoundaryScale(std::size_t k) const { return scales[k].values != nullptr; }
     PBF_HD float boundaryScale(std::size_t k, const Vec3& p) const {
         if (!scales[k].values) return 1.0f;

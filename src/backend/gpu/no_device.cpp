@@ -26,7 +26,7 @@ std::unique_ptr<Backend> on_gpu::makeBackend(const SimulationParams&, const Back
     unavailable(status(), "cuda");
 }
 StageOutputs on_gpu::runStages(const SimulationParams&, const SolidSet*, std::span<const Vec3>,
-                               std::span<const Vec3>, float) {
+                               std::span<const Vec3>, float, const SimulationParams*) {
     unavailable(status(), "cuda");
 }
 #endif
@@ -43,7 +43,7 @@ std::unique_ptr<Backend> on_cpu::makeBackend(const SimulationParams&, const Back
     unavailable(status(), "cuda-on-cpu");
 }
 StageOutputs on_cpu::runStages(const SimulationParams&, const SolidSet*, std::span<const Vec3>,
-                               std::span<const Vec3>, float) {
+                               std::span<const Vec3>, float, const SimulationParams*) {
     unavailable(status(), "cuda-on-cpu");
 }
 #endif

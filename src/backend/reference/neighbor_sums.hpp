@@ -12,6 +12,7 @@
 // device memory both fit. PBF_HD: the GPU kernels call these.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "backend/boundary.hpp"
@@ -132,6 +133,70 @@ PBF_HD Vec3 vorticityGradientOf(const SolverConstants& c, const Neighbors& neigh
         eta += vorticityGradientTerm(c, xi - x(j), magnitudeI, length(omega(j)), rho(j));
     });
     return eta;
+}
+
+// The physical viscosity's acceleration a_i = nu lap v_i (equations.hpp,
+// viscosityTerm, normalised by viscosityMomentTerm): the neighbours, then
+// for each domain wall in reach the mirror images of i and of its
+// neighbours (free slip). From the velocities v and densities rho before
+// XSPH (Jacobi), like xsphVelocityOf. `neighbors` is visited once plus once
+// per wall in reach.
+template <class Neighbors, class Positions, class Velocities, class Densities>
+PBF_HD Vec3 viscosityAccelerationOf(const SolverConstants& c, float nu, const Neighbors& neighbors,
+                                    const Positions& x, const Velocities& v, const Densities& rho,
+                                    std::uint32_t i) {
+    const Vec3 xi = x(i), vi = v(i);
+    const float rhoI = rho(i);
+    Vec3 a{};
+    float moment = 0.0f;
+    neighbors([&](std::uint32_t j) {
+        a += viscosityTerm(c, nu, xi - x(j), vi, v(j), rhoI, rho(j));
+        moment += viscosityMomentTerm(c, xi - x(j), rhoI, rho(j));
+    });
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = -1; side <= 1; side += 2) {
+            if (!wallInReach(c, xi, axis, side)) continue;
+            const float plane = wallPlane(c, axis, side);
+            const Vec3 self = xi - mirrored(xi, axis, plane);
+            a += viscosityTerm(c, nu, self, vi, mirroredVelocity(vi, axis), rhoI, rhoI);
+            moment += viscosityMomentTerm(c, self, rhoI, rhoI);
+            neighbors([&](std::uint32_t j) {
+                const Vec3 rij = xi - mirrored(x(j), axis, plane);
+                a += viscosityTerm(c, nu, rij, vi, mirroredVelocity(v(j), axis), rhoI, rho(j));
+                moment += viscosityMomentTerm(c, rij, rhoI, rho(j));
+            });
+        }
+    return normalisedViscosity(a, moment);
+}
+
+// Surface tension's acceleration of particle i at the positions x (the
+// end-of-step x*) with the densities rho: the cohesion of the surface
+// layer (cohesionTerm) plus the walls' and the nearest solid's adhesion
+// (boundary::adhesionPull, adhesionAcceleration); `solidAcceleration` is the
+// solid's part (its reaction acts on a coupled solid) and `solid` which one
+// (boundary::kNoSolid: none). `solids` may be null.
+struct SurfaceTensionAcceleration {
+    Vec3 total;
+    Vec3 solidAcceleration;
+    std::size_t solid = boundary::kNoSolid;
+};
+template <class Solids, class Neighbors, class Positions, class Densities>
+PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, float wallAdhesion,
+                                                   const Solids* solids, const Neighbors& neighbors,
+                                                   const Positions& x, const Densities& rho,
+                                                   std::uint32_t i) {
+    const Vec3 xi = x(i);
+    const bool surfaceI = onSurface(c, rho(i));
+    Vec3 cohesion{};
+    neighbors([&](std::uint32_t j) {
+        cohesion += cohesionTerm(c, xi - x(j), surfaceI, onSurface(c, rho(j)));
+    });
+    const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, xi);
+    SurfaceTensionAcceleration a;
+    a.solidAcceleration = adhesionAcceleration(c, pull.solid);
+    a.total = cohesion + adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
+    a.solid = pull.solidIndex;
+    return a;
 }
 
 }  // namespace pbf::reference

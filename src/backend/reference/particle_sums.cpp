@@ -54,26 +54,8 @@ Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec
 Vec3 viscosityAcceleration(const SolverConstants& c, float nu, std::span<const Vec3> x,
                            std::span<const Vec3> v, std::span<const float> rho,
                            NeighborIndices neighbors, std::size_t i) {
-    Vec3 a{};
-    float moment = 0.0f;
-    for (const std::uint32_t j : neighbors) {
-        a += viscosityTerm(c, nu, x[i] - x[j], v[i], v[j], rho[i], rho[j]);
-        moment += viscosityMomentTerm(c, x[i] - x[j], rho[i], rho[j]);
-    }
-    for (int axis = 0; axis < 3; ++axis)
-        for (const int side : {-1, 1}) {
-            if (!wallInReach(c, x[i], axis, side)) continue;
-            const float plane = wallPlane(c, axis, side);
-            const Vec3 self = x[i] - mirrored(x[i], axis, plane);
-            a += viscosityTerm(c, nu, self, v[i], mirroredVelocity(v[i], axis), rho[i], rho[i]);
-            moment += viscosityMomentTerm(c, self, rho[i], rho[i]);
-            for (const std::uint32_t j : neighbors) {
-                const Vec3 rij = x[i] - mirrored(x[j], axis, plane);
-                a += viscosityTerm(c, nu, rij, v[i], mirroredVelocity(v[j], axis), rho[i], rho[j]);
-                moment += viscosityMomentTerm(c, rij, rho[i], rho[j]);
-            }
-        }
-    return normalisedViscosity(a, moment);
+    return viscosityAccelerationOf(c, nu, ListNeighbors{neighbors}, Array{x}, Array{v}, Array{rho},
+                                   index(i));
 }
 
 Vec3 vorticity(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> v,
@@ -92,16 +74,8 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                                           const SolidSet* solids, std::span<const Vec3> x,
                                           std::span<const float> rho, NeighborIndices neighbors,
                                           std::size_t i) {
-    SurfaceTensionAcceleration a;
-    const bool surfaceI = onSurface(c, rho[i]);
-    Vec3 cohesion{};
-    for (const std::uint32_t j : neighbors)
-        cohesion += cohesionTerm(c, x[i] - x[j], surfaceI, onSurface(c, rho[j]));
-    const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, x[i]);
-    a.solidAcceleration = adhesionAcceleration(c, pull.solid);
-    a.total = cohesion + adhesionAcceleration(c, pull.walls) + a.solidAcceleration;
-    a.solid = pull.solidIndex;
-    return a;
+    return surfaceTensionOf(c, wallAdhesion, solids, ListNeighbors{neighbors}, Array{x}, Array{rho},
+                            index(i));
 }
 
 }  // namespace pbf::reference

@@ -37,9 +37,7 @@ Vec3 xsphVelocity(const SolverConstants& c, float viscosity, std::span<const Vec
                   std::size_t i);
 
 // The physical viscosity's acceleration a_i = nu lap v_i
-// (equations.hpp, viscosityTerm, normalised by viscosityMomentTerm): the
-// neighbours, then for each domain wall in reach the mirror images of i and
-// of its neighbours.
+// (viscosityAccelerationOf: the neighbours, then the domain walls' mirror images).
 Vec3 viscosityAcceleration(const SolverConstants& c, float nu, std::span<const Vec3> x,
                            std::span<const Vec3> v, std::span<const float> rho,
                            NeighborIndices neighbors, std::size_t i);
@@ -54,15 +52,7 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        NeighborIndices neighbors, std::size_t i);
 
 // Surface tension's acceleration of particle i at the positions x (the
-// end-of-step x*) with the densities rho: the cohesion of the surface
-// layer plus the walls' and the nearest solid's adhesion;
-// `solidAcceleration` is the solid's part (its reaction acts on a coupled
-// solid) and `solid` which one (boundary::kNoSolid: none).
-struct SurfaceTensionAcceleration {
-    Vec3 total;
-    Vec3 solidAcceleration;
-    std::size_t solid = 0;
-};
+// end-of-step x*) with the densities rho (surfaceTensionOf); `solids` may be null.
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
                                           const SolidSet* solids, std::span<const Vec3> x,
                                           std::span<const float> rho, NeighborIndices neighbors,

@@ -10,7 +10,10 @@
 // stencil walk over the sorted grid, a reorder that mixes up particles'
 // fields (x and x* of different particles: v and dp wrong), the device's
 // solids (the shapes and poses in device memory) disagreeing with the
-// host's.
+// host's; surface tension's kernel (cohesion, the walls' and the solids'
+// adhesion: a device solid's adhesion not uploaded leaves the solid cloud's
+// sphere without its pull, far outside the bounds) and the physical
+// viscosity's (a wall mirror or a neighbour dropped).
 #include <gtest/gtest.h>
 
 #include <ostream>
@@ -43,8 +46,9 @@ TEST_P(DeviceVsReference, AgreeWithinTheDerivedBounds) {
     std::vector<Vec3> x;
     for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
         x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
-    const gpu::StageOutputs out =
-        runDeviceStages(cloud.params, cloud.solids.get(), x, cloud.predicted, kStageDt);
+    const SimulationParams surfaceTension = surfaceTensionParams(cloud);
+    const gpu::StageOutputs out = runDeviceStages(cloud.params, cloud.solids.get(), x,
+                                                  cloud.predicted, kStageDt, &surfaceTension);
     ASSERT_EQ(out.input.size(), x.size());
     // Every particle once, with its own x and x* (the reorder kept them together).
     std::vector<int> seen(x.size(), 0);
@@ -65,8 +69,33 @@ TEST_P(DeviceVsReference, AgreeWithinTheDerivedBounds) {
     results.velocity = out.velocity;
     results.xsphVelocity = out.xsphVelocity;
     results.vorticity = out.vorticity;
+    results.surfaceTensionVelocity = out.surfaceTensionVelocity;
+    ASSERT_EQ(results.surfaceTensionVelocity.size(), x.size());
+    EXPECT_TRUE(out.viscosityVelocity.empty());  // fluid.kinematic_viscosity is off
     expectAgreementWithReference(cloud, c, results, "device",
                                  std::string(backendName(deviceUnderTest())));
+}
+
+// The physical viscosity's kernel against the reference's sum
+// (stage_agreement.hpp: physicalViscosityDeviation), on the device's own
+// v = (x* - x) / dt and densities, with a step of 1 s.
+TEST_P(DeviceVsReference, PhysicalViscosityStageMatchesTheReference) {
+    PBF_REQUIRE_DEVICE();
+    const Case& param = GetParam();
+    Cloud cloud = param.make(param.count);
+    const float nu = 1e-3f;
+    cloud.params.fluid.kinematicViscosity = nu;
+    const SolverConstants c = SolverConstants::from(cloud.params);
+    std::vector<Vec3> x;
+    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
+        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
+    const gpu::StageOutputs out =
+        runDeviceStages(cloud.params, cloud.solids.get(), x, cloud.predicted, kStageDt);
+    ASSERT_EQ(out.viscosityVelocity.size(), x.size());
+    EXPECT_TRUE(out.surfaceTensionVelocity.empty());
+    EXPECT_LT(physicalViscosityDeviation(cloud, c, nu, out.xStar, out.velocity, out.density,
+                                         out.viscosityVelocity, 1.0f),
+              kViscosityAgreement);
 }
 
 INSTANTIATE_TEST_SUITE_P(Clouds, DeviceVsReference,

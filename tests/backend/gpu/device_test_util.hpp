@@ -21,10 +21,11 @@ inline BackendKind deviceUnderTest() {
 
 inline gpu::StageOutputs runDeviceStages(const SimulationParams& params, const SolidSet* solids,
                                          std::span<const Vec3> x, std::span<const Vec3> xStar,
-                                         float dt) {
+                                         float dt,
+                                         const SimulationParams* surfaceTension = nullptr) {
     return deviceUnderTest() == BackendKind::Cuda
-               ? gpu::on_gpu::runStages(params, solids, x, xStar, dt)
-               : gpu::on_cpu::runStages(params, solids, x, xStar, dt);
+               ? gpu::on_gpu::runStages(params, solids, x, xStar, dt, surfaceTension)
+               : gpu::on_cpu::runStages(params, solids, x, xStar, dt, surfaceTension);
 }
 
 }  // namespace pbf::test

@@ -109,10 +109,15 @@ Cloud solidCloud(std::size_t n) {
     return cloud;
 }
 
-SolverConstants surfaceTensionConstants(const Cloud& cloud) {
+SimulationParams surfaceTensionParams(const Cloud& cloud) {
     SimulationParams params = cloud.params;
     params.fluid.surfaceTension = 0.0728f;
-    return SolverConstants::from(params);
+    params.solver.wallAdhesion = kStageWallAdhesion;
+    return params;
+}
+
+SolverConstants surfaceTensionConstants(const Cloud& cloud) {
+    return SolverConstants::from(surfaceTensionParams(cloud));
 }
 
 namespace {
@@ -499,6 +504,44 @@ void expectAgreementWithReference(const Cloud& cloud, const SolverConstants& c,
             << "too few inner particles to test cohesion";
     }
     EXPECT_LT(skippedAtSolids, n / 4);
+}
+
+double physicalViscosityDeviation(const Cloud& cloud, const SolverConstants& c, float nu,
+                                  const std::vector<Vec3>& xStar, const std::vector<Vec3>& v,
+                                  const std::vector<float>& density, const std::vector<Vec3>& after,
+                                  float stepDt) {
+    const std::size_t n = xStar.size();
+    reference::NeighborGrid grid(cloud.params.domain, c.h);
+    grid.build(xStar);
+    double worst = 0.0;
+    std::size_t nearWalls = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 a =
+            reference::viscosityAcceleration(c, nu, xStar, v, density, grid.neighbors(i), i);
+        // The scale: the sum of the terms' magnitudes, normalised as the sum is.
+        double magnitude = 0.0, moment = 0.0;
+        for (const std::uint32_t j : grid.neighbors(i)) {
+            magnitude += length(reference::viscosityTerm(c, nu, xStar[i] - xStar[j], v[i], v[j],
+                                                         density[i], density[j]));
+            moment +=
+                reference::viscosityMomentTerm(c, xStar[i] - xStar[j], density[i], density[j]);
+        }
+        for (int axis = 0; axis < 3; ++axis)
+            for (const int side : {-1, 1})
+                nearWalls += reference::wallInReach(c, xStar[i], axis, side) ? 1 : 0;
+        const double scale = magnitude * 12.0 / std::max(moment, 6.0) + 1e-12;
+        // The stage's result is read back as (v + dt a - v) / dt: both
+        // roundings, u |v| each, divided by dt, are allowed on top.
+        const double readBack = 4.0 * kU * double(length(after[i])) / double(stepDt);
+        const Vec3 stage = (after[i] - v[i]) * (1.0f / stepDt);
+        for (int k = 0; k < 3; ++k)
+            worst = std::max(
+                worst,
+                std::max(0.0, std::fabs(double(stage[k]) - double(a[k])) - readBack) / scale);
+    }
+    std::printf("  %s: largest |stage - reference| / sum |terms| %.2e, %zu wall contacts\n",
+                cloud.name.c_str(), worst, nearWalls);
+    return worst;
 }
 
 }  // namespace pbf::test

@@ -120,6 +120,9 @@ Cloud solidCloud(std::size_t n);
 // Surface tension on the clouds: water's sigma, adhesion on the walls and on
 // the solid cloud's sphere, so that the walls' and solids' pulls are compared too.
 inline constexpr float kStageWallAdhesion = 0.7f;
+// The cloud's settings with water's sigma and solver.wall_adhesion =
+// kStageWallAdhesion, and their constants.
+SimulationParams surfaceTensionParams(const Cloud& cloud);
 SolverConstants surfaceTensionConstants(const Cloud& cloud);
 
 // One implementation's outputs of the stages of a step, in its particle
@@ -140,5 +143,24 @@ struct StageResults {
 void expectAgreementWithReference(const Cloud& cloud, const SolverConstants& c,
                                   const StageResults& results, const char* implementation,
                                   const std::string& label);
+
+// The physical viscosity (fluid.kinematic_viscosity): an implementation's
+// stage applied to the velocities v with the step `stepDt` gave `after`
+// (= v + stepDt a); x*, v and rho are its inputs in its particle order. The
+// stage and reference::viscosityAcceleration call the same terms
+// (equations.hpp: viscosityTerm, viscosityMomentTerm, the wall mirrors) on
+// the same floats and differ only in the order of the neighbours; both
+// sums (terms and moment) therefore agree within 2 gamma_{n-1} sum |terms|
+// each, propagated through the normalisation 12 / moment. Returns the
+// largest |stage - reference| over the sum of the terms' magnitudes
+// (normalised as the sum is), the read-back's roundings allowed; the tests
+// ask for less than kViscosityAgreement (far above that rounding, far below
+// a missing mirror or a dropped term: each is at least a few percent of the
+// sum at a wall). Prints it with the number of wall contacts.
+inline constexpr double kViscosityAgreement = 1e-4;
+double physicalViscosityDeviation(const Cloud& cloud, const SolverConstants& c, float nu,
+                                  const std::vector<Vec3>& xStar, const std::vector<Vec3>& v,
+                                  const std::vector<float>& density, const std::vector<Vec3>& after,
+                                  float stepDt);
 
 }  // namespace pbf::test

@@ -28,7 +28,6 @@ namespace pbf::test {
 namespace {
 
 constexpr float kDt = kStageDt;
-constexpr double kU = kUnitRoundoff;
 
 // Calls a stage over [0, n) in ranges that do not follow the 1024-particle
 // list blocks (the stages split them at block boundaries themselves).
@@ -135,14 +134,8 @@ TEST_P(SimdVsReference, AgreeWithinTheDerivedBounds) {
                                  param.compactListSpan ? "compact lists" : "wide lists");
 }
 
-// The physical viscosity (fluid.kinematic_viscosity): the CPU stage and
-// the reference's sum call the same terms (equations.hpp: viscosityTerm,
-// viscosityMomentTerm, the wall mirrors) on the same floats and differ only
-// in the order of the neighbours; both sums (terms and moment) therefore
-// agree within 2 gamma_{n-1} sum |terms| each, propagated through the
-// normalisation 12 / moment. The test asks for 1e-4 of the sum of the
-// terms' magnitudes (far above that rounding, far below a missing mirror
-// or a dropped term: each is at least a few percent of the sum at a wall).
+// The physical viscosity (fluid.kinematic_viscosity): the CPU stage against
+// the reference's sum (stage_agreement.hpp: physicalViscosityDeviation).
 TEST_P(SimdVsReference, PhysicalViscosityStageMatchesTheReference) {
     const Case& param = GetParam();
     Cloud cloud = param.make(param.count);
@@ -177,42 +170,14 @@ TEST_P(SimdVsReference, PhysicalViscosityStageMatchesTheReference) {
         stages::applyPhysicalViscosity(c, nu, kViscosityDt, search, predicted.data(),
                                        velocityDensity.data(), velocity, b, e);
     });
-    std::vector<Vec3> xStar(n), v(n);
+    std::vector<Vec3> xStar(n), v(n), after(n);
     for (std::size_t i = 0; i < n; ++i) {
         xStar[i] = p.predicted.get(i);
         v[i] = before.get(i);
+        after[i] = velocity.get(i);
     }
-    reference::NeighborGrid grid(cloud.params.domain, c.h);
-    grid.build(xStar);
-    double worst = 0.0;
-    std::size_t nearWalls = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 a =
-            reference::viscosityAcceleration(c, nu, xStar, v, density, grid.neighbors(i), i);
-        // The scale: the sum of the terms' magnitudes, normalised as the sum is.
-        double magnitude = 0.0, moment = 0.0;
-        for (const std::uint32_t j : grid.neighbors(i)) {
-            magnitude += length(reference::viscosityTerm(c, nu, xStar[i] - xStar[j], v[i], v[j],
-                                                         density[i], density[j]));
-            moment +=
-                reference::viscosityMomentTerm(c, xStar[i] - xStar[j], density[i], density[j]);
-        }
-        for (int axis = 0; axis < 3; ++axis)
-            for (const int side : {-1, 1})
-                nearWalls += reference::wallInReach(c, xStar[i], axis, side) ? 1 : 0;
-        const double scale = magnitude * 12.0 / std::max(moment, 6.0) + 1e-12;
-        // The stage's result is read back as (v + dt a - v) / dt: both
-        // roundings, u |v| each, divided by dt, are allowed on top.
-        const double readBack = 4.0 * kU * double(length(velocity.get(i))) / double(kViscosityDt);
-        const Vec3 stage = (velocity.get(i) - before.get(i)) * (1.0f / kViscosityDt);
-        for (int k = 0; k < 3; ++k)
-            worst = std::max(
-                worst,
-                std::max(0.0, std::fabs(double(stage[k]) - double(a[k])) - readBack) / scale);
-    }
-    std::printf("  %s: largest |stage - reference| / sum |terms| %.2e, %zu wall contacts\n",
-                cloud.name.c_str(), worst, nearWalls);
-    EXPECT_LT(worst, 1e-4);
+    EXPECT_LT(physicalViscosityDeviation(cloud, c, nu, xStar, v, density, after, kViscosityDt),
+              kViscosityAgreement);
 }
 
 INSTANTIATE_TEST_SUITE_P(Clouds, SimdVsReference,
