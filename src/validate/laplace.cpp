@@ -110,7 +110,7 @@ EquatorForces equatorForces(const World& world, double plane) {
 struct Drop {
     double radius = 0.0;    // from the particles' volume, m
     double pressure = 0.0;  // Pa, the constraint's, averaged
-    double dt = 0.0;        // the substep, s
+    double dt = 0.0;        // the substep (adaptive: its capillary limit), s
     double mass = 0.0;      // of a particle, kg
     std::size_t particles = 0;
     EquatorForces mean;  // averaged over the same frames
