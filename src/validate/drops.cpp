@@ -74,8 +74,11 @@ Aabb boundsOf(const std::vector<Vec3>& x, float margin) {
 
 }  // namespace
 
-std::size_t clusterCount(const std::vector<Vec3>& x, float link) {
-    if (x.empty()) return 0;
+namespace {
+
+// The root (a member index) of each particle's connected component, the
+// particles linked closer than `link`: union-find over the neighbour grid.
+std::vector<std::uint32_t> clusterRoots(const std::vector<Vec3>& x, float link) {
     reference::NeighborGrid grid(boundsOf(x, link), link);
     grid.build(x);
     std::vector<std::uint32_t> parent(x.size());
@@ -86,9 +89,43 @@ std::size_t clusterCount(const std::vector<Vec3>& x, float link) {
     };
     for (std::size_t i = 0; i < x.size(); ++i)
         for (const std::uint32_t j : grid.neighbors(i)) parent[root(std::uint32_t(i))] = root(j);
-    std::size_t roots = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) roots += root(std::uint32_t(i)) == i;
-    return roots;
+    for (std::size_t i = 0; i < x.size(); ++i) parent[i] = root(std::uint32_t(i));
+    return parent;
+}
+
+}  // namespace
+
+std::size_t clusterCount(const std::vector<Vec3>& x, float link) {
+    if (x.empty()) return 0;
+    const std::vector<std::uint32_t> roots = clusterRoots(x, link);
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) count += roots[i] == i;
+    return count;
+}
+
+std::vector<Vec3> largestCluster(const std::vector<Vec3>& x, float link) {
+    if (x.empty()) return {};
+    const std::vector<std::uint32_t> roots = clusterRoots(x, link);
+    std::vector<std::size_t> size(x.size(), 0);
+    for (const std::uint32_t r : roots) ++size[r];
+    const std::size_t largest =
+        std::size_t(std::max_element(size.begin(), size.end()) - size.begin());
+    std::vector<Vec3> kept;
+    kept.reserve(size[largest]);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        if (roots[i] == largest) kept.push_back(x[i]);
+    return kept;
+}
+
+std::vector<double> nearestNeighborDistances(const std::vector<Vec3>& x, float reach) {
+    std::vector<double> nearest(x.size(), double(reach));
+    if (x.size() < 2) return nearest;
+    reference::NeighborGrid grid(boundsOf(x, reach), reach);
+    grid.build(x);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        for (const std::uint32_t j : grid.neighbors(i))
+            nearest[i] = std::min(nearest[i], double(length(x[i] - x[j])));
+    return nearest;
 }
 
 double smallestPairDistance(const std::vector<Vec3>& x, float reach) {

@@ -29,6 +29,11 @@ Vec3 centroid(const std::vector<Vec3>& x);
 
 // Connected components of the particles linked closer than `link` (m).
 std::size_t clusterCount(const std::vector<Vec3>& x, float link);
+// The positions of the largest of those components (the first, on a tie).
+std::vector<Vec3> largestCluster(const std::vector<Vec3>& x, float link);
+// Each particle's distance to its nearest neighbour (`reach` where none is
+// closer than that).
+std::vector<double> nearestNeighborDistances(const std::vector<Vec3>& x, float reach);
 // The smallest distance between two particles.
 double smallestPairDistance(const std::vector<Vec3>& x, float reach);
 

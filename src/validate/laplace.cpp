@@ -6,16 +6,32 @@
 // gradient). Summed over the particles above the drop's equator, the
 // corrections inside the upper half cancel and what remains is the force
 // the lower half's water exerts across the equatorial disc: the pressure
-// times pi R^2 (outside is empty). The cohesion acts only in the surface
-// layer, so at rest this is the Laplace pressure, and it must scale as
-// 1 / R. Measured with the warm start on (it records each particle's
-// correction per dt^2, the solve acceleration), averaged over many frames
-// of two resting drops.
+// times pi R^2 (outside is empty). Measured with the warm start on (it
+// records each particle's correction per dt^2 of the substep, warm start
+// included: the solve acceleration), averaged over many frames of two
+// resting drops; it must be 2 sigma / R and scale as 1 / R.
+//
+// The measure is checked against Newton's third law: the upper half is at
+// rest on average, so the constraint's force across the equator plus the
+// cohesion's core and the momentum the jittering particles carry across it
+// (Irving & Kirkwood 1950) must equal the cohesion's pull across it, each
+// summed pair by pair here from the particles (EquatorForces).
+//
+// What it found (docs/surface_tension.md, "Why Laplace fails"): the model's
+// surface is the set of particles below 0.98 rho0, and the cohesion pulls
+// them in until they are denser than that. A drop truly at rest therefore
+// has (almost) no surface particles and no pressure: the pressure comes
+// from the particles' jitter, which keeps knocking outer particles below
+// the threshold, and it follows the jitter: with the substep halved the
+// drop is quieter and the pressure falls (the half-step drop below).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "backend/reference/equations.hpp"
+#include "backend/reference/neighbor_grid.hpp"
 #include "validate/drops.hpp"
 #include "validate/measure.hpp"
 
@@ -24,19 +40,99 @@ namespace {
 
 constexpr double kSigma = 0.0728;
 
-struct Drop {
-    double radius = 0.0;    // from the particles' volume, m
-    double pressure = 0.0;  // Pa, averaged
-    std::size_t particles = 0;
-    std::vector<double> t, p;
+// The forces the lower half of the drop exerts on the upper half across the
+// plane y = c, N, upward positive: the pair forces of the pairs the plane
+// separates and the momentum the particles carry across it (Irving &
+// Kirkwood 1950), and the cohesion's state.
+struct EquatorForces {
+    double pull = 0.0;           // the cohesion's pull (pairs with a surface particle)
+    double core = 0.0;           // the cohesion's repulsive core
+    double kinetic = 0.0;        // sum m v_y^2 / slab over a slab two spacings thick
+    double energy = 0.0;         // the cohesion energy E = eps sum_i s_i (rho~0 - rho~_i), J
+    double surface = 0.0;        // particles on the surface (density below 0.98 rho0)
+    double kineticEnergy = 0.0;  // J
+
+    EquatorForces& operator+=(const EquatorForces& o) {
+        pull += o.pull, core += o.core, kinetic += o.kinetic, energy += o.energy;
+        surface += o.surface, kineticEnergy += o.kineticEnergy;
+        return *this;
+    }
 };
 
-Drop restingDrop(double radius, float spacing, const Options& options) {
+// From the end-of-step state: the positions and the densities the cohesion
+// used (reference::cohesionTerm, the equations of the SIMD pass).
+EquatorForces equatorForces(const World& world, double plane) {
+    const SolverConstants& c = world.constants();
+    const ParticleStore& p = world.particles();
+    const std::vector<Vec3> x = detail::positions(world);
+    const double m = c.particleMass, d = std::sqrt(double(c.cohesionMinDistance2));
+    Aabb box{x.front(), x.front()};
+    for (const Vec3& q : x) {
+        box.min = {std::min(box.min.x, q.x), std::min(box.min.y, q.y), std::min(box.min.z, q.z)};
+        box.max = {std::max(box.max.x, q.x), std::max(box.max.y, q.y), std::max(box.max.z, q.z)};
+    }
+    const Vec3 margin{c.h, c.h, c.h};
+    reference::NeighborGrid grid({box.min - margin, box.max + margin}, c.h);
+    grid.build(x);
+    // epsilon from cohesionScale = 6 c6 epsilon; rho~ with the flat top W(max(r, d)).
+    const double epsilon = double(c.cohesionScale) / (6.0 * double(c.poly6.coefficient));
+    const auto flat = [&](double r2) { return double(c.poly6.value(float(std::max(r2, d * d)))); };
+    double full = flat(0.0);  // rho~0 / m: the rest lattice's sum, self included
+    const int reach = int(std::ceil(c.h / d));
+    for (int a = -reach; a <= reach; ++a)
+        for (int b = -reach; b <= reach; ++b)
+            for (int k = -reach; k <= reach; ++k)
+                if (a || b || k) full += flat((a * a + b * b + k * k) * d * d);
+    EquatorForces f;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const bool si = reference::onSurface(c, p.density[i]);
+        double sum = flat(0.0);
+        for (const std::uint32_t j : grid.neighbors(i)) {
+            const Vec3 rij = x[i] - x[j];
+            const float r2 = lengthSquared(rij);
+            sum += flat(r2);
+            if (!(x[i].y > plane) || x[j].y > plane) continue;
+            const bool sj = reference::onSurface(c, p.density[j]);
+            const double fy = m * double(reference::cohesionTerm(c, rij, si, sj).y);
+            (r2 < c.cohesionCoreDistance2 ? f.core : f.pull) += fy;
+        }
+        if (si) {
+            f.energy += epsilon * m * (full - sum);
+            f.surface += 1.0;
+        }
+        const Vec3 v = p.velocity.get(i);
+        f.kineticEnergy += 0.5 * m * double(lengthSquared(v));
+        if (std::fabs(x[i].y - plane) < d) f.kinetic += m * double(v.y) * v.y / (2.0 * d);
+    }
+    return f;
+}
+
+struct Drop {
+    double radius = 0.0;    // from the particles' volume, m
+    double pressure = 0.0;  // Pa, the constraint's, averaged
+    double dt = 0.0;        // the substep (adaptive: its capillary limit), s
+    double mass = 0.0;      // of a particle, kg
+    std::size_t particles = 0;
+    EquatorForces mean;  // averaged over the same frames
+    std::vector<double> t, p;
+    double area() const { return std::numbers::pi * radius * radius; }
+    double vrms() const { return std::sqrt(2.0 * mean.kineticEnergy / (mass * double(particles))); }
+    // (constraint + core + kinetic) / pull across the equator: 1 when the
+    // constraint measure is the force it claims to be.
+    double balance() const { return (pressure * area() + mean.core + mean.kinetic) / -mean.pull; }
+};
+
+// substepsPerFrame 0: the adaptive substep (the capillary limit decides).
+Drop restingDrop(double radius, float spacing, int substepsPerFrame, const Options& options) {
     WorldDef def = detail::waterWorld(0.5f * spacing, float(5.0 * radius), float(kSigma));
     def.name = "laplace";
     def.simulation.solver.warmStart = 0.8f;  // records the solve acceleration
     def.simulation.fluid.viscosity = 0.05f;  // the drop comes to rest
     def.fps = 200.0f;
+    if (substepsPerFrame > 0) {
+        def.simulation.solver.timeStepMode = TimeStepMode::Fixed;
+        def.simulation.solver.fixedSubsteps = substepsPerFrame;
+    }
     const float half = 0.5f * spacing;
     const float reach = float(radius) + spacing;
     const std::vector<Vec3> sites = detail::latticeSites(
@@ -46,8 +142,11 @@ Drop restingDrop(double radius, float spacing, const Options& options) {
     Drop drop;
     drop.particles = world.particleCount();
     drop.radius = std::cbrt(3.0 * double(drop.particles) / (4.0 * std::numbers::pi)) * spacing;
+    drop.dt = substepsPerFrame > 0 ? 1.0 / (double(def.fps) * substepsPerFrame)
+                                   : double(world.constants().capillaryTimeStep);
     const double settle = 0.15, average = 0.15;  // s: a few capillary times of these drops
     const double m = world.constants().particleMass;
+    drop.mass = m;
     double sum = 0.0;
     int samples = 0;
     while (world.time() < settle + average - 1e-9) {
@@ -57,20 +156,29 @@ Drop restingDrop(double radius, float spacing, const Options& options) {
         double force = 0.0;
         for (std::size_t i = 0; i < p.size(); ++i)
             if (p.position.y[i] > c.y) force += m * p.solveAcceleration.y[i];
-        const double pressure = force / (std::numbers::pi * drop.radius * drop.radius);
+        const double pressure = force / drop.area();
         drop.t.push_back(world.time());
         drop.p.push_back(pressure);
         if (world.time() > settle) {
             sum += pressure;
             ++samples;
+            drop.mean += equatorForces(world, c.y);
         }
     }
     drop.pressure = sum / samples;
+    for (double* x : {&drop.mean.pull, &drop.mean.core, &drop.mean.kinetic, &drop.mean.energy,
+                      &drop.mean.surface, &drop.mean.kineticEnergy})
+        *x /= samples;
     if (options.progress)
         options.progress(fmt::format(
-            "laplace: drop of {:.2f} mm ({} particles): pressure {:.1f} Pa, 2 sigma / R = {:.1f} "
-            "Pa",
-            1e3 * drop.radius, drop.particles, drop.pressure, 2.0 * kSigma / drop.radius));
+            "laplace: drop of {:.2f} mm ({} particles, substep {:.0f} us): pressure {:.1f} Pa, "
+            "2 sigma / R = {:.1f} Pa; across the equator (Pa): cohesion pull {:.1f}, core {:.1f}, "
+            "kinetic {:.1f} (balance {:.3f}); {:.0f} surface particles, cohesion energy / area "
+            "{:.4f} N/m, rms speed {:.3f} m/s",
+            1e3 * drop.radius, drop.particles, 1e6 * drop.dt, drop.pressure,
+            2.0 * kSigma / drop.radius, drop.mean.pull / drop.area(), drop.mean.core / drop.area(),
+            drop.mean.kinetic / drop.area(), drop.balance(), drop.mean.surface,
+            drop.mean.energy / (4.0 * drop.area()), drop.vrms()));
     return drop;
 }
 
@@ -79,17 +187,25 @@ CaseResult run(const Options& options) {
     result.name = "laplace";
     result.title = "Laplace pressure of resting drops, from the density constraint's forces";
     const float spacing = options.quick ? 0.0008f : 0.0005f;
-    const Drop small = restingDrop(0.003, spacing, options);
-    const Drop large = restingDrop(0.006, spacing, options);
+    const Drop small = restingDrop(0.003, spacing, 0, options);
+    const Drop large = restingDrop(0.006, spacing, 0, options);
+    // The small drop again at about half the capillary substep (fixed
+    // substeps): quieter, and its pressure should not change if it were set
+    // by sigma. Not checked; it is the evidence for the failure above.
+    const int halfStep = int(std::ceil(2.0 / (200.0 * small.dt)));
+    const Drop quiet = restingDrop(0.003, spacing, halfStep, options);
 
     plot::Panel panel{"Pressure across the equator", "t (s)", "pressure (Pa)", {}};
-    for (const Drop* d : {&small, &large}) {
-        const std::string label = fmt::format("R = {:.2f} mm", 1e3 * d->radius);
+    for (const Drop* d : {&small, &large, &quiet}) {
+        const std::string label =
+            fmt::format("R = {:.2f} mm, substep {:.0f} us", 1e3 * d->radius, 1e6 * d->dt);
         panel.series.push_back(detail::record(result, label, "t_s", d->t, "Pa", d->p));
-        panel.series.push_back(detail::record(
-            result, label + ": 2 sigma / R", "t_s", {d->t.front(), d->t.back()}, "Pa",
-            {2 * kSigma / d->radius, 2 * kSigma / d->radius}, plot::Style::Dashed));
     }
+    for (const Drop* d : {&small, &large})
+        panel.series.push_back(
+            detail::record(result, fmt::format("R = {:.2f} mm: 2 sigma / R", 1e3 * d->radius),
+                           "t_s", {d->t.front(), d->t.back()}, "Pa",
+                           {2 * kSigma / d->radius, 2 * kSigma / d->radius}, plot::Style::Dashed));
     result.figure = {result.title, {panel}, 1};
     for (const Drop* d : {&small, &large})
         result.checks.push_back(
@@ -101,11 +217,26 @@ CaseResult run(const Options& options) {
     result.checks.push_back({"p R of the small drop / p R of the large",
                              small.pressure * small.radius / (large.pressure * large.radius), 1.0,
                              0.2, "", "the 1 / R law", "both drops at the same resolution"});
+    // Catches a measure that is not the constraint's force of one substep:
+    // a warm-start value accumulated over substeps would read 1 / (1 - 0.8)
+    // = 5 times too high, one missing a dt or the warm start's share far off.
+    for (const Drop* d : {&small, &large})
+        result.checks.push_back(
+            {fmt::format("{:.1f} mm drop: (constraint + core + kinetic) / cohesion pull across "
+                         "the equator",
+                         1e3 * d->radius),
+             d->balance(), 1.0, 0.2, "", "Newton's third law on the upper half at rest",
+             "20 %: the kinetic share is estimated in a slab two spacings thick, and the "
+             "smallest drop (quick: 208 particles) has few particles in it"});
     result.notes = fmt::format(
         "Drops of water (sigma {} N/m) without gravity, particles {:.2f} mm apart, warm start "
         "0.8, XSPH 0.05; 0.15 s to settle, then the constraint's force across the equator "
-        "averaged for 0.15 s.",
-        kSigma, 1e3 * spacing);
+        "averaged for 0.15 s. The {:.1f} mm drop at a substep of {:.0f} us instead of {:.0f}: "
+        "rms speed {:.3f} m/s instead of {:.3f}, {:.0f} surface particles instead of {:.0f}, "
+        "pressure {:.1f} Pa instead of {:.1f} (2 sigma / R = {:.1f} Pa).",
+        kSigma, 1e3 * spacing, 1e3 * quiet.radius, 1e6 * quiet.dt, 1e6 * small.dt, quiet.vrms(),
+        small.vrms(), quiet.mean.surface, small.mean.surface, quiet.pressure, small.pressure,
+        2.0 * kSigma / small.radius);
     return result;
 }
 

@@ -29,6 +29,7 @@ struct Cap {
     double theta = 0.0;     // measured, degrees
     double expected = 0.0;  // Young-Dupre, degrees
     std::size_t particles = 0;
+    std::size_t detached = 0;  // particles outside the drop, not measured
 };
 
 // Theta from the height H and volume V of a spherical cap.
@@ -65,7 +66,10 @@ Cap sessileDrop(double adhesion, int across, double duration, const Options& opt
         {0.0f, r + r, 0.0f}, [&](const Vec3& x) { return length(x - centre) <= float(kRadius); });
     World world = detail::worldOf(def, sites);
     while (world.time() < duration - 1e-9) detail::step(world);
-    const std::vector<Vec3> x = detail::positions(world);
+    // The drop is the largest group of particles linked within a kernel
+    // radius: particles flung off as the drop lands are not part of the cap.
+    const std::vector<Vec3> all = detail::positions(world);
+    const std::vector<Vec3> x = detail::largestCluster(all, world.constants().h);
     double top = 0.0;
     for (const Vec3& p : x) top = std::max(top, double(p.y));
     // The liquid reaches one particle radius beyond the outermost centres.
@@ -76,11 +80,12 @@ Cap sessileDrop(double adhesion, int across, double duration, const Options& opt
     cap.theta = capAngle(height, volume);
     cap.expected = std::acos(2.0 * adhesion - 1.0) * 180.0 / std::numbers::pi;
     cap.particles = x.size();
+    cap.detached = all.size() - x.size();
     if (options.progress)
         options.progress(fmt::format(
             "wetting: adhesion {:.2f}: contact angle {:.1f} deg (Young-Dupre {:.1f}), height "
-            "{:.2f} mm, {} particles",
-            adhesion, cap.theta, cap.expected, 1e3 * height, cap.particles));
+            "{:.2f} mm, {} particles in the drop ({} detached, not measured)",
+            adhesion, cap.theta, cap.expected, 1e3 * height, cap.particles, cap.detached));
     return cap;
 }
 
