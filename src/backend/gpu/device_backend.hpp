@@ -5,7 +5,7 @@
 //           device system: the same source on the CPU, tested by every CTest run.
 // Each build lives in its own namespace (PBF_DEVICE_NAMESPACE), so both link
 // into one program. A build that is not there (no nvcc, no Thrust headers)
-// is replaced by a stub whose factory says why (no_device.cpp).
+// is replaced by a factory that refuses, saying why (no_device.cpp).
 #pragma once
 
 #include <cstddef>
