@@ -21,11 +21,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <vector>
 
 #include "pbf/world/world.hpp"
+#include "validate/damped_oscillator.hpp"
 #include "validate/measure.hpp"
 
 namespace pbf::validation {
@@ -52,102 +52,46 @@ struct Bobbing {
     double dampedPeriod = 0.0;                 // 2 pi / omega_d, s
     double damping = 0.0;                      // damping ratio zeta = sigma / omega_n
     double fitRms = 0.0;                       // m: the fit's RMS residual
+    double periodError = 0.0;                  // s: the natural period's standard error
+    double residualCorrelation = 0.0;          // the residuals' lag-1 autocorrelation
     double periodLow = 0.0, periodHigh = 0.0;  // s: range of `period` over shortened records
 };
 
-// A damped oscillator y = e + exp(-sigma t) (A cos(w t) + B sin(w t)) fitted
-// to the offset by least squares: (e, A, B) solved for every (w, sigma) on
-// a grid, the pair with the smallest residual kept. The sphere's motion is
-// damped within about one period (PBF's own dissipation and the waves it
-// radiates), so zero crossings after the first period are the level's noise
-// (they gave periods 40 % short); the fit uses the whole record. The
-// natural period is the undamped one, 2 pi / sqrt(w^2 + sigma^2): the
+// The sphere's motion is damped within about one period (PBF's own
+// dissipation and the waves it radiates), so zero crossings after the first
+// period are the level's noise (they gave periods 40 % short); a damped
+// oscillator is fitted to the whole record (detail::fitDampedOscillator).
+// The natural period is the undamped one, 2 pi / sqrt(w^2 + sigma^2): the
 // estimate T = 2 pi sqrt((m + A) / (rho0 g A_w)) has no damping in it.
-// The residual of the best (e, A, B) for one (w, sigma): the normal
-// equations of the linear least squares, solved by Gaussian elimination.
-double oscillatorResidual(const Bobbing& b, double w, double sigma) {
-    double m[3][4] = {};
-    const auto basis = [&](std::size_t k) {
-        const double decay = std::exp(-sigma * b.t[k]);
-        return std::array<double, 3>{1.0, decay * std::cos(w * b.t[k]),
-                                     decay * std::sin(w * b.t[k])};
-    };
-    for (std::size_t k = 0; k < b.t.size(); ++k) {
-        const std::array<double, 3> c = basis(k);
-        for (std::size_t i = 0; i < 3; ++i) {
-            for (std::size_t j = 0; j < 3; ++j) m[i][j] += c[i] * c[j];
-            m[i][3] += c[i] * b.offset[k];
-        }
-    }
-    for (int i = 0; i < 3; ++i) {
-        int pivot = i;
-        for (int r = i + 1; r < 3; ++r)
-            if (std::fabs(m[r][i]) > std::fabs(m[pivot][i])) pivot = r;
-        for (int c = 0; c < 4; ++c) std::swap(m[i][c], m[pivot][c]);
-        if (!(std::fabs(m[i][i]) > 1e-300)) return std::numeric_limits<double>::infinity();
-        for (int r = 0; r < 3; ++r) {
-            if (r == i) continue;
-            const double f = m[r][i] / m[i][i];
-            for (int c = i; c < 4; ++c) m[r][c] -= f * m[i][c];
-        }
-    }
-    const std::array<double, 3> x{m[0][3] / m[0][0], m[1][3] / m[1][1], m[2][3] / m[2][2]};
-    double residual = 0.0;
-    for (std::size_t k = 0; k < b.t.size(); ++k) {
-        const std::array<double, 3> c = basis(k);
-        const double d = x[0] * c[0] + x[1] * c[1] + x[2] * c[2] - b.offset[k];
-        residual += d * d;
-    }
-    return residual;
-}
-
 void fitDampedOscillator(Bobbing& b) {
-    double bestResidual = std::numeric_limits<double>::infinity();
-    double bestW = 0.0, bestSigma = 0.0;
-    const auto search = [&](double w0, double w1, double dw, double s0, double s1, double ds) {
-        for (double w = w0; w <= w1 + 1e-12; w += dw)
-            for (double sigma = std::max(0.0, s0); sigma <= s1 + 1e-12; sigma += ds) {
-                const double residual = oscillatorResidual(b, w, sigma);
-                if (residual < bestResidual) {
-                    bestResidual = residual;
-                    bestW = w;
-                    bestSigma = sigma;
-                }
-            }
-    };
-    // Periods 0.16-1.3 s, damping rates 0-20 /s; then refined around the best.
-    search(5.0, 40.0, 0.25, 0.0, 20.0, 0.5);
-    const double w = bestW, sigma = bestSigma;
-    search(w - 0.5, w + 0.5, 0.01, sigma - 1.0, sigma + 1.0, 0.02);
-    const double natural = std::hypot(bestW, bestSigma);
-    b.period = 2.0 * std::numbers::pi / natural;
-    b.dampedPeriod = 2.0 * std::numbers::pi / bestW;
-    b.damping = bestSigma / natural;
-    b.fitRms = std::sqrt(bestResidual / double(std::max<std::size_t>(1, b.t.size())));
+    const detail::DampedOscillatorFit f = detail::fitDampedOscillator(b.t, b.offset);
+    b.period = f.naturalPeriod;
+    b.periodError = f.naturalPeriodError;
+    b.residualCorrelation = f.residualCorrelation;
+    b.dampedPeriod = f.dampedPeriod;
+    b.damping = f.dampingRatio;
+    b.fitRms = f.rms;
 }
 
-// How well the record determines the period: the same fit to the record
-// cut at kCuts (s after the release) and to the whole of it; the range of
-// the natural periods found. The motion is damped within about one period,
-// so the late record is mostly the level's slow noise; a period that moved
-// with the cut would rest on that noise rather than on the oscillation.
-// (A formal standard error does not serve here: the fit's residuals are
-// correlated from sample to sample, lag-1 autocorrelation 0.97-0.99, so
-// the independent-residual covariance is meaningless and scaling it by an
-// effective sample size rests on a noise model the residuals do not follow.)
+// How well the record determines the period, without a noise model: the
+// same fit to the record cut at kCuts (s after the release) and to the
+// whole of it; the range of the natural periods found. The standard error
+// above assumes AR(1) residuals; here they are mostly a slow drift of the
+// level (lag-1 autocorrelation 0.97-0.99), for which the effective sample
+// size is not well defined, so the refits are the direct measure.
 constexpr std::array<double, 4> kCuts{0.8, 0.9, 1.0, 1.1};
 
 void fitPeriodRange(Bobbing& b) {
     b.periodLow = b.periodHigh = b.period;
     for (double cut : kCuts) {
-        Bobbing part;
+        std::vector<double> t, offset;
         for (std::size_t k = 0; k < b.t.size() && b.t[k] <= cut; ++k) {
-            part.t.push_back(b.t[k]);
-            part.offset.push_back(b.offset[k]);
+            t.push_back(b.t[k]);
+            offset.push_back(b.offset[k]);
         }
-        fitDampedOscillator(part);
-        b.periodLow = std::min(b.periodLow, part.period);
-        b.periodHigh = std::max(b.periodHigh, part.period);
+        const double part = detail::fitDampedOscillator(t, offset).naturalPeriod;
+        b.periodLow = std::min(b.periodLow, part);
+        b.periodHigh = std::max(b.periodHigh, part);
     }
 }
 
@@ -192,10 +136,10 @@ Bobbing bob(float radius, const Options& options) {
     fitDampedOscillator(b);
     fitPeriodRange(b);
     if (options.progress)
-        options.progress(
-            fmt::format("heave: radius {} m ({} particles): natural period {:.4f} s ({:.4f}-{:.4f} "
-                        "over shortened records), damping ratio {:.2f}",
-                        radius, b.particles, b.period, b.periodLow, b.periodHigh, b.damping));
+        options.progress(fmt::format(
+            "heave: radius {} m ({} particles): natural period {:.4f} ± {:.4f} s ({:.4f}-{:.4f} "
+            "over shortened records), damping ratio {:.2f}",
+            radius, b.particles, b.period, b.periodError, b.periodLow, b.periodHigh, b.damping));
     return b;
 }
 
@@ -254,24 +198,28 @@ CaseResult run(const Options& options) {
     std::string rows;
     for (const Bobbing& b : runs)
         rows += fmt::format(
-            "| {:g} | {} | {:.4f} | {:.4f}–{:.4f} | {:.4f} | {:.2f} | {:.1e} | {:+.1f} % |\n",
-            1e3 * b.radius, b.particles, b.period, b.periodLow, b.periodHigh, b.dampedPeriod,
-            b.damping, b.fitRms, 100.0 * (b.period / estimate - 1.0));
+            "| {:g} | {} | {:.4f} ± {:.4f} | {:.4f}–{:.4f} | {:.4f} | {:.2f} | {:.1e} | {:.2f} | "
+            "{:+.1f} % |\n",
+            1e3 * b.radius, b.particles, b.period, b.periodError, b.periodLow, b.periodHigh,
+            b.dampedPeriod, b.damping, b.fitRms, b.residualCorrelation,
+            100.0 * (b.period / estimate - 1.0));
     result.notes = fmt::format(
         "A sphere of radius {} m and density 500 kg/m^3 (floating half submerged) in a 0.5 x 0.5 "
         "m tank filled 0.2 m deep is held {} cm deeper than floating while the water settles "
         "({} s), then released and followed for {} s. The offset is the sphere's centre minus "
         "the water level (read as in the Archimedes case, farther than {} m from the sphere); "
         "a damped oscillator e + exp(-sigma t) (A cos(w t) + B sin(w t)) is fitted to it by "
-        "least squares, and the natural period is the undamped 2 pi / sqrt(w^2 + sigma^2). "
+        "least squares, and the natural period is the undamped 2 pi / sqrt(w^2 + sigma^2), "
+        "± its standard error (the fit's linearised covariance, inflated for the residuals' "
+        "lag-1 autocorrelation r1 by (1 + r1) / (1 - r1)); 'shortened records': the natural "
+        "periods of the same fit to the record cut at 0.8, 0.9, 1.0 and 1.1 s and to the whole, "
+        "lowest to highest. "
         "Estimate: {:.4f} s (mu = 1/2); with the low-frequency added mass (mu = 0.83) {:.4f} "
         "s. The error against the estimate is reported as a convergence study, not checked: "
-        "the estimate is itself uncertain by the tolerance. 'Shortened records': the natural "
-        "periods of the same fit to the record cut at 0.8, 0.9, 1.0 and 1.1 s and to the "
-        "whole, lowest to highest (how well the record determines the period).\n\n"
+        "the estimate is itself uncertain by the tolerance.\n\n"
         "| r (mm) | particles | natural period (s) | shortened records (s) | damped period (s) | "
-        "damping ratio | fit RMS (m) | against the estimate |\n"
-        "| --- | --- | --- | --- | --- | --- | --- | --- |\n{}",
+        "damping ratio | fit RMS (m) | residual r1 | against the estimate |\n"
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n{}",
         kRadius, 100.0 * kPush, kSettle, kFollow, kClearance, estimate, period(kMuLow), rows);
     return result;
 }

@@ -21,7 +21,10 @@
 // tongue of water thinner than about 10 mm (0.18 a) at every resolution
 // (reported: the simulated depth where the experiment saw its front): the
 // lead is a thin tongue along the floor, not a late start of the whole
-// surge. One run with water's surface tension is reported too.
+// surge. One run with water's surface tension is reported too. A wall
+// function for the floor's bed resistance (shear 1/2 rho C_f |u| u) at a
+// smooth bed's C_f shortens the lead by 0.02-0.04 only and it still grows
+// with resolution (docs/validation.md, "Bed resistance, tried").
 #include <fmt/format.h>
 
 #include <algorithm>
