@@ -28,7 +28,7 @@ struct SolidDescription {
     // Wetting with surface tension on (SolidSet::setAdhesion): the work of
     // adhesion in units of 2 sigma, [0, 1]; contact angle acos(2 a - 1).
     float adhesion = 0.0f;
-    std::string field;            // "solids[2]", for messages (set by validate if empty)
+    std::string field;  // "solids[2]", for messages (set by validate if empty)
 };
 
 }  // namespace pbf

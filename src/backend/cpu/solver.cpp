@@ -187,18 +187,17 @@ void Solver::buildPlan() {
     // velocities as XSPH does (ghosts' included: UpdateVelocity ran over
     // every particle, so no exchange) and adds dt a to the velocity XSPH
     // wrote (XSPH sets v from the packed copy, so it must come first).
-    plan_.add(Part::After, {Stage::PhysicalViscosity,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applyPhysicalViscosity(
-                                        s.context.constants,
-                                        s.context.params.fluid.kinematicViscosity, s.dt, search_,
-                                        s.predicted, s.withLambda, s.particles.velocity, b, e);
-                                });
-                            },
-                            [](const SolverStep& s) {
-                                return s.context.params.fluid.kinematicViscosity > 0.0f;
-                            }});
+    plan_.add(
+        Part::After,
+        {Stage::PhysicalViscosity,
+         [this](SolverStep& s) {
+             forOwned(s, [&](std::size_t b, std::size_t e) {
+                 stages::applyPhysicalViscosity(
+                     s.context.constants, s.context.params.fluid.kinematicViscosity, s.dt, search_,
+                     s.predicted, s.withLambda, s.particles.velocity, b, e);
+             });
+         },
+         [](const SolverStep& s) { return s.context.params.fluid.kinematicViscosity > 0.0f; }});
     plan_.add(Part::After, {Stage::VorticityConfinement,
                             [this](SolverStep& s) {
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
