@@ -52,6 +52,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "backend/gpu/block_cache.hpp"
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
@@ -116,47 +117,20 @@ struct DeviceFloat3 {
     std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
 };
 
-// Thrust's temporary buffers (the sort's, the reductions') from blocks kept
-// between calls, passed as thrust::device(allocator): no allocation inside
-// the step once the sizes have settled (a cudaMalloc and cudaFree per sort
-// would cost more than the sort), and their size is known (diagnostics).
-class ScratchAllocator {
+// Thrust's temporary buffers (the sort's, the reductions'), passed as
+// thrust::device(allocator): blocks of device memory kept between calls
+// (backend/gpu/block_cache.hpp).
+struct DeviceMalloc {
+    char* operator()(std::size_t n) const {
+        return thrust::raw_pointer_cast(thrust::device_malloc<char>(n));
+    }
+};
+struct DeviceFree {
+    void operator()(char* data) const { thrust::device_free(thrust::device_pointer_cast(data)); }
+};
+class ScratchAllocator : public BlockCache<DeviceMalloc, DeviceFree> {
   public:
-    using value_type = char;
-    ScratchAllocator() = default;
-    ScratchAllocator(const ScratchAllocator&) = delete;
-    ScratchAllocator& operator=(const ScratchAllocator&) = delete;
-    ~ScratchAllocator() {
-        for (const Block& b : blocks_) thrust::device_free(thrust::device_pointer_cast(b.data));
-    }
-    char* allocate(std::ptrdiff_t bytes) {
-        const std::size_t n = static_cast<std::size_t>(bytes);
-        for (Block& b : blocks_)
-            if (!b.used && b.size >= n) {
-                b.used = true;
-                return b.data;
-            }
-        char* data = thrust::raw_pointer_cast(thrust::device_malloc<char>(n));
-        blocks_.push_back({data, n, true});
-        return data;
-    }
-    void deallocate(char* data, std::size_t) {
-        for (Block& b : blocks_)
-            if (b.data == data) b.used = false;
-    }
-    std::size_t bytes() const {
-        std::size_t total = 0;
-        for (const Block& b : blocks_) total += b.size;
-        return total;
-    }
-
-  private:
-    struct Block {
-        char* data;
-        std::size_t size;
-        bool used;
-    };
-    std::vector<Block> blocks_;
+    ScratchAllocator() : BlockCache(DeviceMalloc{}, DeviceFree{}) {}
 };
 
 // A field of the list (include/pbf/core/particle_fields.hpp) in device memory:
