@@ -131,6 +131,7 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
     std::vector<Sym3> stressOf(x.size());
     for (std::size_t i = 0; i < x.size(); ++i)
         stressOf[i] = reference::surfaceStress(c, x, neighbours[i], i);
+    const double stressScale = m * m / (double(c.restDensity) * c.restDensity);  // m (m / rho0^2)
     const detail::ConstraintPairs fit = detail::fitConstraintPairs(x, solve, neighbours, c.spiky);
     const Vec3 centre = detail::centroid(x);
     const double inner2 = 0.25 * radius * radius, wide2 = 0.49 * radius * radius;
@@ -157,10 +158,8 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
                     : 0.0;
             f.constraintFit += cy;
             const double sy =
-                m *
-                double(reference::surfaceStressAcceleration(
-                           c, reference::surfaceStressPairTerm(c, stressOf[i], stressOf[j], rij))
-                           .y);
+                stressScale *
+                double(reference::surfaceStressPairTerm(c, stressOf[i], stressOf[j], rij).y);
             f.stress += sy;
             // Which disc the pair crosses: where its midpoint is from the axis.
             const double axis2 = fromAxis2(0.5f * (x[i] + x[j]));

@@ -118,7 +118,7 @@ void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const Sol
 void computeSurfaceStress(const SolverConstants& c, const NeighborSearch& search,
                           const PackedPoint* predicted, Sym3* stress, std::size_t begin,
                           std::size_t end);
-// Its force (reference::surfaceStressAccelerationOf): v_i += dt a_i from the
+// Its force (reference::surfaceStressVelocityChangeOf): v_i += dt a_i from the
 // stresses of i and its neighbours (all of them computed first).
 void applySurfaceStress(const SolverConstants& c, float dt, const NeighborSearch& search,
                         const PackedPoint* predicted, const Sym3* stress, Float3Array& velocity,

@@ -1,6 +1,6 @@
 // The continuum surface stress on the CPU (equations.hpp, "Continuum
 // surface stress"): the reference's own sums (neighbor_sums.hpp:
-// surfaceStressOf, surfaceStressAccelerationOf) over the SIMD solver's
+// surfaceStressOf, surfaceStressVelocityChangeOf) over the SIMD solver's
 // neighbour lists, one particle at a time. Scalar: a SIMD pass like
 // surface_tension_pass.cpp would be faster (docs/performance.md gives the
 // cost of this one).
@@ -46,10 +46,10 @@ void applySurfaceStress(const SolverConstants& c, float dt, const NeighborSearch
                         const PackedPoint* predicted, const Sym3* stress, Float3Array& velocity,
                         std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-        const Vec3 a = reference::surfaceStressAccelerationOf(c, ListNeighbors{search.neighbors(i)},
-                                                              PackedPositions{predicted},
-                                                              Stresses{stress}, std::uint32_t(i));
-        velocity.set(i, velocity.get(i) + dt * a);
+        const Vec3 dv = reference::surfaceStressVelocityChangeOf(
+            c, dt, ListNeighbors{search.neighbors(i)}, PackedPositions{predicted}, Stresses{stress},
+            std::uint32_t(i));
+        velocity.set(i, velocity.get(i) + dv);
     }
 }
 

@@ -339,7 +339,7 @@ struct SurfaceStressKernel {
     }
 };
 
-// Its pair force, v_i += dt a_i (reference::surfaceStressAccelerationOf),
+// Its pair force, v_i += dt a_i (reference::surfaceStressVelocityChangeOf),
 // after surface tension's kernel (as the CPU adds it after the cohesion).
 struct SurfaceStressForceKernel {
     SolverConstants c;
@@ -348,9 +348,9 @@ struct SurfaceStressForceKernel {
     Float3View predicted, velocity;
     Sym3View stress;
     PBF_HD void operator()(std::uint32_t i) const {
-        const Vec3 a =
-            reference::surfaceStressAccelerationOf(c, search.of(i), predicted, stress, i);
-        velocity.set(i, velocity(i) + dt * a);
+        const Vec3 dv =
+            reference::surfaceStressVelocityChangeOf(c, dt, search.of(i), predicted, stress, i);
+        velocity.set(i, velocity(i) + dv);
     }
 };
 

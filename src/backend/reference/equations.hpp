@@ -285,17 +285,20 @@ PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pu
 // surfaceStress, g0 / d = surfaceStressFloor (calibration:
 // core/solver_constants.cpp).
 
-// The term of neighbour j of g_i = grad c at x_i: V grad W_ij.
+// The term of neighbour j of g_i = grad c at x_i: V grad W_ij. (V as
+// m / rho0 rounded once, and the roundings below, as in the calibration's
+// experiment, docs/surface_tension.md item 9: its figures are reproduced
+// bit for bit.)
 PBF_HD inline Vec3 colourGradientTerm(const SolverConstants& c, const Vec3& rij) {
-    return c.spiky.gradient(rij, length(rij)) * massOverRestDensity(c);
+    return c.spiky.gradient(rij, length(rij)) * (c.particleMass / c.restDensity);
 }
 
 // T_i from g_i: a tension sigma_css (|g| - floor) in the plane normal to g,
 // none along it; zero at or below the floor (and for a g that is not finite).
 PBF_HD inline Sym3 surfaceStressOfGradient(const SolverConstants& c, const Vec3& g) {
-    const float n2 = lengthSquared(g);
-    const float n = std::sqrt(n2);
+    const float n = std::sqrt(lengthSquared(g));
     if (!(n > c.surfaceStressFloor)) return {};
+    const float n2 = n * n;
     const float s = c.surfaceStress * (n - c.surfaceStressFloor) / n2;
     return {s * (n2 - g.x * g.x), s * (n2 - g.y * g.y), s * (n2 - g.z * g.z),
             -s * g.x * g.y,       -s * g.x * g.z,       -s * g.y * g.z};
@@ -308,9 +311,10 @@ PBF_HD inline Vec3 surfaceStressPairTerm(const SolverConstants& c, const Sym3& s
     return (stressI + stressJ) * c.spiky.gradient(rij, length(rij));
 }
 
-// a_i from the summed pair terms: times m / rho0^2.
-PBF_HD inline Vec3 surfaceStressAcceleration(const SolverConstants& c, const Vec3& pairSum) {
-    return pairSum * (massOverRestDensity(c) * c.inverseRestDensity);
+// dt a_i from the summed pair terms: times dt m / rho0^2 (dt = 1: a_i).
+PBF_HD inline Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt,
+                                               const Vec3& pairSum) {
+    return (dt * c.particleMass / (c.restDensity * c.restDensity)) * pairSum;
 }
 
 // ---- Physical viscosity (an addition to the paper) ---------------------------

@@ -211,18 +211,18 @@ PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Neighbors& neighbors
     return surfaceStressOfGradient(c, g);
 }
 
-// Its acceleration a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij, from the
-// stresses T of particle i and its neighbours.
+// Its velocity change dt a_i, a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij,
+// from the stresses T of particle i and its neighbours (dt = 1: a_i).
 template <class Neighbors, class Positions, class Stresses>
-PBF_HD Vec3 surfaceStressAccelerationOf(const SolverConstants& c, const Neighbors& neighbors,
-                                        const Positions& x, const Stresses& stress,
-                                        std::uint32_t i) {
+PBF_HD Vec3 surfaceStressVelocityChangeOf(const SolverConstants& c, float dt,
+                                          const Neighbors& neighbors, const Positions& x,
+                                          const Stresses& stress, std::uint32_t i) {
     const Vec3 xi = x(i);
     const Sym3 stressI = stress(i);
     Vec3 sum{};
     neighbors(
         [&](std::uint32_t j) { sum += surfaceStressPairTerm(c, stressI, stress(j), xi - x(j)); });
-    return surfaceStressAcceleration(c, sum);
+    return surfaceStressVelocityChange(c, dt, sum);
 }
 
 }  // namespace pbf::reference

@@ -62,10 +62,10 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
 Sym3 surfaceStress(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
                    std::size_t i);
 
-// Its acceleration of particle i from the stresses of all particles
-// (surfaceStressAccelerationOf).
-Vec3 surfaceStressAcceleration(const SolverConstants& c, std::span<const Vec3> x,
-                               std::span<const Sym3> stress, NeighborIndices neighbors,
-                               std::size_t i);
+// Its velocity change dt a_i of particle i from the stresses of all
+// particles (surfaceStressVelocityChangeOf; dt = 1: a_i).
+Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
+                                 std::span<const Sym3> stress, NeighborIndices neighbors,
+                                 std::size_t i);
 
 }  // namespace pbf::reference

@@ -216,8 +216,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
         for (std::size_t i = 0; i < n; ++i)
             surfaceStress_[i] = reference::surfaceStress(c, predicted_, grid_.neighbors(i), i);
         for (std::size_t i = 0; i < n; ++i)
-            velocity_[i] += dt * reference::surfaceStressAcceleration(c, predicted_, surfaceStress_,
-                                                                      grid_.neighbors(i), i);
+            velocity_[i] += reference::surfaceStressVelocityChange(
+                c, dt, predicted_, surfaceStress_, grid_.neighbors(i), i);
     }
     // Restitution and friction on the walls and solids, then x = x* (l. 23).
     for (std::size_t i = 0; i < n; ++i) {

@@ -577,7 +577,8 @@ double surfaceStressDeviation(const Cloud& cloud, const SolverConstants& c,
     std::vector<double> relative;
     for (std::size_t i = 0; i < n; ++i) {
         const auto neighbours = grid.neighbors(i);
-        const Vec3 ref = reference::surfaceStressAcceleration(c, xStar, stress, neighbours, i);
+        const Vec3 ref =
+            reference::surfaceStressVelocityChange(c, 1.0f, xStar, stress, neighbours, i);
         double propagated = 0.0, summed = 0.0;
         for (const std::uint32_t j : neighbours) {
             const Vec3 rij = xStar[i] - xStar[j];
