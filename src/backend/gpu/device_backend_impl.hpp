@@ -37,6 +37,7 @@
 #include <thrust/functional.h>
 #include <thrust/gather.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
 #include <thrust/sort.h>
 #include <thrust/transform_reduce.h>
 
@@ -53,6 +54,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "backend/gpu/block_cache.hpp"
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
@@ -117,47 +119,20 @@ struct DeviceFloat3 {
     std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
 };
 
-// Thrust's temporary buffers (the sort's, the reductions') from blocks kept
-// between calls, passed as thrust::device(allocator): no allocation inside
-// the step once the sizes have settled (a cudaMalloc and cudaFree per sort
-// would cost more than the sort), and their size is known (diagnostics).
-class ScratchAllocator {
+// Thrust's temporary buffers (the sort's, the reductions'), passed as
+// thrust::device(allocator): blocks of device memory kept between calls
+// (backend/gpu/block_cache.hpp).
+struct DeviceMalloc {
+    char* operator()(std::size_t n) const {
+        return thrust::raw_pointer_cast(thrust::device_malloc<char>(n));
+    }
+};
+struct DeviceFree {
+    void operator()(char* data) const { thrust::device_free(thrust::device_pointer_cast(data)); }
+};
+class ScratchAllocator : public BlockCache<DeviceMalloc, DeviceFree> {
   public:
-    using value_type = char;
-    ScratchAllocator() = default;
-    ScratchAllocator(const ScratchAllocator&) = delete;
-    ScratchAllocator& operator=(const ScratchAllocator&) = delete;
-    ~ScratchAllocator() {
-        for (const Block& b : blocks_) thrust::device_free(thrust::device_pointer_cast(b.data));
-    }
-    char* allocate(std::ptrdiff_t bytes) {
-        const std::size_t n = static_cast<std::size_t>(bytes);
-        for (Block& b : blocks_)
-            if (!b.used && b.size >= n) {
-                b.used = true;
-                return b.data;
-            }
-        char* data = thrust::raw_pointer_cast(thrust::device_malloc<char>(n));
-        blocks_.push_back({data, n, true});
-        return data;
-    }
-    void deallocate(char* data, std::size_t) {
-        for (Block& b : blocks_)
-            if (b.data == data) b.used = false;
-    }
-    std::size_t bytes() const {
-        std::size_t total = 0;
-        for (const Block& b : blocks_) total += b.size;
-        return total;
-    }
-
-  private:
-    struct Block {
-        char* data;
-        std::size_t size;
-        bool used;
-    };
-    std::vector<Block> blocks_;
+    ScratchAllocator() : BlockCache(DeviceMalloc{}, DeviceFree{}) {}
 };
 
 // A field of the list (include/pbf/core/particle_fields.hpp) in device memory:
@@ -393,7 +368,7 @@ struct DeviceStep : StepProgress {
     float dt;
     IterationControl control;
     SolidsArgument solids;         // the device's solids (present: any)
-    SearchGrid search;             // the sorted grid, valid from the sort on
+    NeighborLists search;          // the step's lists, valid from Stage::NeighborLists on
     std::int64_t compression = 0;  // sum of C_i, fixed point (tolerance mode)
 };
 
@@ -479,7 +454,6 @@ class DeviceBackend final : public Backend {
         DeviceStep s(context, dt);
         s.solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
         prepare(context.params, s.solids, context.solids);
-        s.search = searchGrid();
         plan_.run(s, times_);
         finishReactions(context, dt);
         searchValid_ = true;
@@ -556,8 +530,9 @@ class DeviceBackend final : public Backend {
         prepare(context.params, solids, context.solids);
         sortByCell();
         reorder();
+        buildNeighborLists();
         const SolverConstants& c = context.constants;
-        const SearchGrid search = searchGrid();
+        const NeighborLists search = neighborLists();
         forEachIndex(n, DensityLambdaKernel{c, solids, search, p_.predicted.view(), raw(p_.density),
                                             raw(lambda_)});
         CorrectionKernel k;
@@ -659,10 +634,30 @@ class DeviceBackend final : public Backend {
     static Float3View view(const DeviceFloat3& a) {
         return const_cast<DeviceFloat3&>(a).view();  // kernels given it only read
     }
+    // The sorted grid at x*, valid right after the sort and the reorder
+    // (the lists are built from it, before the iterations move x*).
     SearchGrid searchGrid() const {
         grid::GridView g = grid_;
         g.cellStart = raw(cellStart_);
-        return {g, view(search_), grid_.cell * grid_.cell};
+        return {g, view(p_.predicted), grid_.cell * grid_.cell};
+    }
+    NeighborLists neighborLists() const { return {raw(listStart_), raw(listIndex_)}; }
+
+    // The step's neighbour lists from the grid walk (kernels: CountNeighbors,
+    // FillNeighborLists): the counts, their exclusive scan into offsets
+    // (start[n] = the total), then the indices. Exact in any order.
+    void buildNeighborLists() {
+        const std::size_t n = p_.size();
+        listStart_.resize(n + 1);
+        const SearchGrid grid = searchGrid();
+        forEachIndex(n, CountNeighbors{grid, raw(listStart_)});
+        listStart_[n] = 0;
+        thrust::exclusive_scan(thrust::device(scratch_), listStart_.begin(), listStart_.end(),
+                               listStart_.begin());
+        const std::uint64_t total = listStart_[n];
+        // An eighth spare: no reallocation while the count drifts up.
+        if (listIndex_.size() < total) listIndex_.resize(total + total / 8);
+        forEachIndex(n, FillNeighborLists{grid, raw(listStart_), raw(listIndex_)});
     }
 
     // The average neighbour count of the last step's search (NaN before one).
@@ -670,9 +665,7 @@ class DeviceBackend final : public Backend {
         ThreadScope threads;
         const std::size_t n = p_.size();
         if (!searchValid_ || n == 0) return std::numeric_limits<double>::quiet_NaN();
-        const std::uint64_t total = thrust::transform_reduce(
-            thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
-            NeighborCount{searchGrid()}, std::uint64_t{0}, thrust::plus<std::uint64_t>());
+        const std::uint64_t total = listStart_[n];
         return double(total) / double(n);
     }
 
@@ -685,7 +678,6 @@ class DeviceBackend final : public Backend {
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
         setOptionalField(ParticleField::solveAcceleration, warm);
-        search_.resize(n);
         corrected_.resize(n);
         lambda_.resize(n);
         keys_.resize(n);
@@ -815,6 +807,10 @@ class DeviceBackend final : public Backend {
                    solidsOn});
         plan_.add(Part::Before, {Stage::SortByCell, [this](DeviceStep&) { sortByCell(); }});
         plan_.add(Part::Before, {Stage::Reorder, [this](DeviceStep&) { reorder(); }});
+        plan_.add(Part::Before, {Stage::NeighborLists, [this](DeviceStep& s) {
+                                     buildNeighborLists();
+                                     s.search = neighborLists();
+                                 }});
 
         // Alg. 1 l. 8-19: one density iteration (Jacobi), as the reference.
         plan_.add(Part::Iteration,
@@ -1002,8 +998,7 @@ class DeviceBackend final : public Backend {
                             cellStart_.begin());
     }
 
-    // Every particle field of the list permuted by the sort's order; x* also
-    // kept as the search positions (StencilNeighbors).
+    // Every particle field of the list permuted by the sort's order.
     void reorder() {
         const std::size_t n = p_.size();
         forEachDeviceArray(p_, [&](std::size_t field, auto& array) {
@@ -1021,20 +1016,15 @@ class DeviceBackend final : public Backend {
                 array.swap(gatherIndex_);
             }
         });
-        thrust::copy(thrust::device, p_.predicted.x.begin(), p_.predicted.x.end(),
-                     search_.x.begin());
-        thrust::copy(thrust::device, p_.predicted.y.begin(), p_.predicted.y.end(),
-                     search_.y.begin());
-        thrust::copy(thrust::device, p_.predicted.z.begin(), p_.predicted.z.end(),
-                     search_.z.begin());
     }
 
     std::size_t memoryBytes() const {
         std::size_t bytes = 0;
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
-        bytes += search_.bytes() + corrected_.bytes() + post_.bytes() + vorticity_.bytes();
+        bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
         bytes += bytesOf(surfaceStress_);
         bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
+        bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
         for (const ReactionRecords& r : records_)
             bytes += bytesOf(r.solid) + r.at.bytes() + r.move.bytes();
@@ -1057,13 +1047,14 @@ class DeviceBackend final : public Backend {
     mutable DeviceSolidStore solids_;   // refreshed by every call given solids
     mutable ScratchAllocator scratch_;  // Thrust's temporary buffers
     // The step's scratch.
-    DeviceFloat3 search_;     // x* at the neighbour search
     DeviceFloat3 corrected_;  // the correction pass's output (Jacobi)
     DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
     DeviceFloat3 vorticity_;  // omega, while confinement is on
     DeviceArray<float> lambda_;
     DeviceArray<Sym3> surfaceStress_;  // T_i, while surface tension is on
     DeviceArray<std::uint32_t> keys_, order_, cellStart_;
+    DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
+    DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices
     DeviceArray<float> gatherFloat_;
     DeviceArray<std::uint32_t> gatherIndex_;
     mutable DeviceArray<detail::StatisticsPartial> partials_;
@@ -1074,7 +1065,7 @@ class DeviceBackend final : public Backend {
     DeviceArray<double> reactionSums_;
     DeviceArray<double> reactionTotals_;
     std::vector<SolidReaction> lastReactions_;
-    bool searchValid_ = false;  // search_ and cellStart_ are those of the current particles
+    bool searchValid_ = false;  // the lists and cellStart_ are those of the current particles
     StageTimes times_;
 };
 

@@ -83,12 +83,64 @@ struct StencilNeighbors {
     }
 };
 
-// The grid of the step's neighbour search.
+// The grid of the step's neighbour search: walked once per step, to build
+// the lists below.
 struct SearchGrid {
     grid::GridView grid;
     Float3View search;
     float radiusSquared = 0.0f;
     PBF_HD StencilNeighbors of(std::uint32_t i) const { return {grid, search, radiusSquared, i}; }
+};
+
+// The neighbours of particle i from the step's lists: the pairs of
+// StencilNeighbors in its order, index[start[i]] .. index[start[i + 1] - 1],
+// so every sum adds the same terms in the same order as the walk (the bits
+// differ only where the compiler fuses multiply-adds differently: 2e-5 m
+// after 8 substeps of the dam break on cuda-on-cpu). Built once per step;
+// each of the step's eight or more passes then reads about 28 indices per
+// particle where the walk tests about 216 candidates (27 cells of about 8).
+// On an H200 the 1M dam break's step went from 8.1 to 4.9 ms
+// (docs/performance.md, "GPU"), for 4 bytes per pair and 8 per particle.
+struct ListNeighbors {
+    const std::uint64_t* start = nullptr;
+    const std::uint32_t* index = nullptr;
+    std::uint32_t i = 0;
+
+    template <class Visit>
+    PBF_HD void operator()(Visit&& visit) const {
+        const std::uint64_t end = start[i + 1];
+        for (std::uint64_t k = start[i]; k < end; ++k) visit(index[k]);
+    }
+};
+
+// The step's neighbour lists (DeviceBackend::buildNeighborLists).
+struct NeighborLists {
+    const std::uint64_t* start = nullptr;  // n + 1 entries
+    const std::uint32_t* index = nullptr;
+    PBF_HD ListNeighbors of(std::uint32_t i) const { return {start, index, i}; }
+};
+
+// The lists' first pass: how many neighbours particle i has (into start[i];
+// an exclusive scan then makes the counts the offsets).
+struct CountNeighbors {
+    SearchGrid grid;
+    std::uint64_t* count = nullptr;
+    PBF_HD void operator()(std::uint32_t i) const {
+        std::uint64_t n = 0;
+        grid.of(i)([&](std::uint32_t) { ++n; });
+        count[i] = n;
+    }
+};
+
+// The lists' second pass: particle i's neighbours from its offset on.
+struct FillNeighborLists {
+    SearchGrid grid;
+    const std::uint64_t* start = nullptr;
+    std::uint32_t* index = nullptr;
+    PBF_HD void operator()(std::uint32_t i) const {
+        std::uint64_t k = start[i];
+        grid.of(i)([&](std::uint32_t j) { index[k++] = j; });
+    }
 };
 
 // The solids of a kernel: none, or the device view.
@@ -176,7 +228,7 @@ struct CellKeyKernel {
 struct DensityLambdaKernel {
     SolverConstants c;
     SolidsArgument solids;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted;
     float* density = nullptr;
     float* lambda = nullptr;
@@ -205,7 +257,7 @@ struct CompressionOf {
 struct CorrectionKernel {
     SolverConstants c;
     SolidsArgument solids;
-    SearchGrid search;
+    NeighborLists search;
     Float3View position, predicted, corrected;
     FloatView lambda;
     ReactionSlot boundaryTerm, projection;
@@ -255,11 +307,11 @@ struct UpdateVelocityKernel {
 struct XsphVorticityKernel {
     SolverConstants c;
     float viscosity = 0.0f;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted, velocity, post, vorticity;  // vorticity.x null: confinement off
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
-        const StencilNeighbors neighbors = search.of(i);
+        const ListNeighbors neighbors = search.of(i);
         post.set(
             i, reference::xsphVelocityOf(c, viscosity, neighbors, predicted, velocity, density, i));
         if (vorticity.x)
@@ -273,7 +325,7 @@ struct ConfinementKernel {
     SolverConstants c;
     float epsilon = 0.0f;
     float dt = 0.0f;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted, vorticity, velocity;
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
@@ -293,7 +345,7 @@ struct PhysicalViscosityKernel {
     SolverConstants c;
     float nu = 0.0f;
     float dt = 0.0f;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted, before, velocity;
     FloatView density;
     PBF_HD void operator()(std::uint32_t i) const {
@@ -313,7 +365,7 @@ struct SurfaceTensionKernel {
     float wallAdhesion = 0.0f;
     float dt = 0.0f;
     SolidsArgument solids;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted, velocity;
     FloatView density;
     ReactionSlot reactions;
@@ -331,7 +383,7 @@ struct SurfaceTensionKernel {
 // every particle before the force kernel reads them.
 struct SurfaceStressKernel {
     SolverConstants c;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted;
     Sym3View stress;
     PBF_HD void operator()(std::uint32_t i) const {
@@ -344,7 +396,7 @@ struct SurfaceStressKernel {
 struct SurfaceStressForceKernel {
     SolverConstants c;
     float dt = 0.0f;
-    SearchGrid search;
+    NeighborLists search;
     Float3View predicted, velocity;
     Sym3View stress;
     PBF_HD void operator()(std::uint32_t i) const {
@@ -426,16 +478,6 @@ struct TotalReactions {
         for (std::uint32_t b = 0; b < blocks; ++b)
             for (int a = 0; a < 6; ++a) t[a] += sums[(std::size_t(b) * solidCount + k) * 6 + a];
         for (int a = 0; a < 6; ++a) totals[std::size_t(k) * 6 + a] = t[a];
-    }
-};
-
-// The number of neighbours of particle i (for `pbf bench`).
-struct NeighborCount {
-    SearchGrid search;
-    PBF_HD std::uint64_t operator()(std::uint32_t i) const {
-        std::uint64_t count = 0;
-        search.of(i)([&](std::uint32_t) { ++count; });
-        return count;
     }
 };
 

@@ -1,6 +1,8 @@
 // The GPU backend's memory per particle (backend/gpu/device_backend.hpp):
 // the arrays DeviceBackend allocates (device_backend_impl.hpp), listed here
 // so that a scene can be refused before anything is allocated.
+#include <cstdint>
+
 #include "backend/cpu/grid_stencil.hpp"
 #include "backend/gpu/device_backend.hpp"
 
@@ -12,10 +14,15 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // The state: x, x*, v, rho, id.
     std::size_t bytes = 3 * vec3 + 2 * scalar;
     if (params.solver.warmStart > 0.0f) bytes += vec3;  // the last substep's acceleration
-    // The step's scratch: x* at the search, the corrected x* (Jacobi),
-    // lambda, cell keys, the sort's order, one gather buffer, and the
-    // sort's own double buffers (keys and values).
-    bytes += 2 * vec3 + 4 * scalar + 2 * scalar;
+    // The step's scratch: the corrected x* (Jacobi), lambda, cell keys, the
+    // sort's order, one gather buffer, and the sort's own double buffers
+    // (keys and values).
+    bytes += vec3 + 4 * scalar + 2 * scalar;
+    // The neighbour lists (device_kernels.hpp, ListNeighbors): an offset and
+    // 4 bytes per neighbour, planned at 40 neighbours (water at rest has
+    // 26-33 within h = 2 spacings; the dam break averages 28.5, the list
+    // keeps an eighth spare).
+    bytes += sizeof(std::uint64_t) + 40 * sizeof(std::uint32_t);
     // v after XSPH, or before it for the physical viscosity's Jacobi read.
     if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
         params.fluid.kinematicViscosity > 0.0f)
