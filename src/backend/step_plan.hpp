@@ -52,6 +52,9 @@ enum class Stage {
     PhysicalViscosity,        // v += dt nu lap v (fluid.kinematic_viscosity)
     VorticityConfinement,     // v += dt f_vorticity
     SurfaceTension,           // v += dt a: cohesion of the surface layer, adhesion
+    SurfaceStress,            // T_i of the continuum surface stress
+    ExchangeSurfaceStress,    // MPI: ghosts' T
+    SurfaceStressForce,       // v += dt a: the continuum surface stress's pair force
     BoundaryResponse,         // restitution and friction; x = x*
     Collect,                  // MPI: ghosts dropped
     Count
@@ -95,6 +98,9 @@ inline const StageInfo& stageInfo(Stage stage) {
         {"physical_viscosity", &T::postProcess, nullptr},
         {"vorticity_confinement", &T::postProcess, nullptr},
         {"surface_tension", &T::postProcess, nullptr},
+        {"surface_stress", &T::postProcess, nullptr},
+        {"exchange_surface_stress", &T::postProcess, &T::exchange},
+        {"surface_stress_force", &T::postProcess, nullptr},
         {"boundary_response", &T::postProcess, nullptr},
         {"collect", &T::postProcess, &T::exchange},
     }};

@@ -58,6 +58,24 @@ constexpr double kCoreStrength = 40.0;
 // (pbf validate rayleigh_drop; docs/surface_tension.md), not per scene.
 constexpr double kCohesionCalibration = 2.5;
 
+// The static surface tension is the continuum surface stress's (Lafaurie et
+// al. 1994; Hu & Adams 2006, eq. 14-16; equations.hpp): the cohesion's pull
+// alone compresses the layer in-plane until the density constraint pushes
+// back, so it holds no static tension (docs/surface_tension.md, item 8). The
+// cohesion stays at a fraction of its pull, to hold outlying particles (the
+// stress has no component along the surface's normal: alone it let a drop
+// disperse), its core kept. Calibrated once (docs/surface_tension.md, item
+// 9): sigma_css = 4 sigma fitted to Rayleigh's frequency at 16 particles
+// across (0.0 %; the Laplace pressures of 3 and 6 mm drops are then
+// predictions, 12 % under); the floor g0 = 0.2 / d on |grad c| is part of
+// that calibration (the bulk's noise gives every particle some |g|, and
+// without the floor the bulk carries a spurious tension; on the rest
+// lattice, h = 2 d, only the outer layer has |g| d > 0: 0.478); a pull of
+// 0.2 (0.1: Rayleigh -2 / -9 / -6 %; 0.05 and below: the cube breaks up).
+constexpr double kSurfaceStressFactor = 4.0;  // sigma_css / sigma
+constexpr float kSurfaceStressFloor = 0.2f;   // g0: the floor on |g| times the spacing d
+constexpr double kCohesionPull = 0.2;         // the cohesion's pull, of the lattice derivation's
+
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
 // tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
 // spacing d, poly6 W):
@@ -165,6 +183,8 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.cohesionCoreScale = static_cast<float>(
         kCoreStrength * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
     c.surfaceDensity = 0.0f;
+    c.surfaceStress = 0.0f;
+    c.surfaceStressFloor = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
         const double m = c.particleMass;
@@ -177,6 +197,13 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         c.cohesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * epsilon);
         c.capillaryTimeStep =
             static_cast<float>(1.0 / std::sqrt(2.0 * epsilon * lattice.stiffness));
+        // The pull at kCohesionPull of the derivation's, its core
+        // (cohesionScale x cohesionCoreScale) and the substep kept (the
+        // calibration of item 9 ran at the full cohesion's substep).
+        c.cohesionScale *= float(kCohesionPull);
+        c.cohesionCoreScale /= float(kCohesionPull);
+        c.surfaceStress = static_cast<float>(kSurfaceStressFactor * sigma);
+        c.surfaceStressFloor = kSurfaceStressFloor / std::sqrt(c.cohesionMinDistance2);
         const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
         c.adhesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
         // The artificial pressure is a position correction per iteration: as

@@ -13,24 +13,24 @@
 // cohesion too (particles the jitter drops below the surface density pull),
 // so the constraint's force alone is not the pressure. The case splits the
 // constraint's force pair by pair (detail::fitConstraintPairs) and reads
-// constraint + cohesion pull + core + momentum flux across the inner disc
-// of the equator, r < R / 2: that must be 2 sigma / R and scale as 1 / R.
+// constraint + cohesion pull + core + continuum surface stress + momentum
+// flux across the inner disc of the equator, r < R / 2: that must be
+// 2 sigma / R and scale as 1 / R.
 // (Until issue 27's item 8 the case read the constraint's force across the
 // whole equator, which the bulk's cohesion partly takes back.)
 //
 // Two checks of the measure: Newton's third law on the upper half at rest
 // (across the whole equator the constraint's force, the cohesion's core and
-// the momentum flux must equal the cohesion's pull, each summed here from
+// the momentum flux must equal the cohesion's pull and the continuum
+// surface stress's pair forces, each summed here from
 // the particles, EquatorForces), and the pair fit reproducing the
 // constraint's force across the whole equator.
 //
-// What it found (docs/surface_tension.md, "Why Laplace fails"): the model's
-// surface is the set of particles below 0.98 rho0, and the cohesion pulls
-// them in until they are denser than that. A drop truly at rest therefore
-// has (almost) no surface particles and no pressure: the pressure comes
-// from the particles' jitter, which keeps knocking outer particles below
-// the threshold, and it follows the jitter: with the substep halved the
-// drop is quieter and the pressure falls (the half-step drop below).
+// What it found (docs/surface_tension.md, "Why Laplace fails"): with the
+// cohesion alone the pressure followed the particles' jitter (with the
+// substep halved the drop was quieter and the pressure fell tenfold); the
+// continuum surface stress (items 8-9) gives a static pressure, and the
+// half-step drop below shows that it no longer follows the substep.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -41,6 +41,7 @@
 
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_grid.hpp"
+#include "backend/reference/particle_sums.hpp"
 #include "validate/constraint_pairs.hpp"
 #include "validate/drops.hpp"
 #include "validate/measure.hpp"
@@ -68,6 +69,9 @@ struct EquatorForces {
     // check that the bulk's stress is uniform).
     double constraintFit = 0.0, constraintInner = 0.0, pullInner = 0.0, coreInner = 0.0;
     double kineticInner = 0.0, totalWide = 0.0, fitResidual = 0.0;
+    // The continuum surface stress's pair forces (equations.hpp), across the
+    // whole equator and across the inner disc.
+    double stress = 0.0, stressInner = 0.0;
 
     EquatorForces& operator+=(const EquatorForces& o) {
         pull += o.pull, core += o.core, kinetic += o.kinetic, energy += o.energy;
@@ -75,18 +79,21 @@ struct EquatorForces {
         constraintFit += o.constraintFit, constraintInner += o.constraintInner;
         pullInner += o.pullInner, coreInner += o.coreInner, kineticInner += o.kineticInner;
         totalWide += o.totalWide, fitResidual += o.fitResidual;
+        stress += o.stress, stressInner += o.stressInner;
         return *this;
     }
     EquatorForces& operator/=(double n) {
-        for (double* x :
-             {&pull, &core, &kinetic, &energy, &surface, &kineticEnergy, &constraintFit,
-              &constraintInner, &pullInner, &coreInner, &kineticInner, &totalWide, &fitResidual})
+        for (double* x : {&pull, &core, &kinetic, &energy, &surface, &kineticEnergy, &constraintFit,
+                          &constraintInner, &pullInner, &coreInner, &kineticInner, &totalWide,
+                          &fitResidual, &stress, &stressInner})
             *x /= n;
         return *this;
     }
     // N upward on the upper half across the inner disc: the bulk's pressure
     // times its area.
-    double innerTotal() const { return constraintInner + pullInner + coreInner + kineticInner; }
+    double innerTotal() const {
+        return constraintInner + pullInner + coreInner + kineticInner + stressInner;
+    }
 };
 
 // From the end-of-step state: the positions and the densities the cohesion
@@ -120,6 +127,11 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
             if (j != i && lengthSquared(x[i] - x[j]) < c.h * c.h) neighbours[i].push_back(j);
         solve[i] = p.solveAcceleration.get(i);
     }
+    // T_i of the continuum surface stress, as the solver's pass computes it.
+    std::vector<Sym3> stressOf(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+        stressOf[i] = reference::surfaceStress(c, x, neighbours[i], i);
+    const double stressScale = m * m / (double(c.restDensity) * c.restDensity);  // m (m / rho0^2)
     const detail::ConstraintPairs fit = detail::fitConstraintPairs(x, solve, neighbours, c.spiky);
     const Vec3 centre = detail::centroid(x);
     const double inner2 = 0.25 * radius * radius, wide2 = 0.49 * radius * radius;
@@ -145,11 +157,16 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
                     ? m * (fit.L[i] + fit.L[j]) * double(c.spiky.gradient(rij, std::sqrt(r2)).y)
                     : 0.0;
             f.constraintFit += cy;
+            const double sy =
+                stressScale *
+                double(reference::surfaceStressPairTerm(c, stressOf[i], stressOf[j], rij).y);
+            f.stress += sy;
             // Which disc the pair crosses: where its midpoint is from the axis.
             const double axis2 = fromAxis2(0.5f * (x[i] + x[j]));
-            if (axis2 < wide2) f.totalWide += cy + fy;
+            if (axis2 < wide2) f.totalWide += cy + fy + sy;
             if (axis2 < inner2) {
                 f.constraintInner += cy;
+                f.stressInner += sy;
                 (r2 < c.cohesionCoreDistance2 ? f.coreInner : f.pullInner) += fy;
             }
         }
@@ -180,10 +197,10 @@ struct Drop {
     double area() const { return std::numbers::pi * radius * radius; }
     double innerArea() const { return 0.25 * area(); }
     double vrms() const { return std::sqrt(2.0 * mean.kineticEnergy / (mass * double(particles))); }
-    // (constraint + core + kinetic) / pull across the equator: 1 when the
-    // constraint measure is the force it claims to be.
+    // (constraint + core + kinetic) / (pull + surface stress) across the
+    // equator: 1 when the constraint measure is the force it claims to be.
     double balance() const {
-        return (constraintShare * area() + mean.core + mean.kinetic) / -mean.pull;
+        return (constraintShare * area() + mean.core + mean.kinetic) / -(mean.pull + mean.stress);
     }
     // The pair fit's constraint force across the equator over the per-particle sum.
     double fitAgreement() const { return mean.constraintFit / (constraintShare * area()); }
@@ -242,7 +259,8 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, const Optio
             "r < 0.7 R without the kinetic {:.1f}), 2 sigma / R = {:.1f} Pa; across the whole "
             "equator (Pa): constraint {:.1f} (pair fit {:.1f}, residual {:.2f}), cohesion pull "
             "{:.1f}, core {:.1f}, kinetic {:.1f} (balance {:.3f}); {:.0f} surface particles, "
-            "cohesion energy / area {:.4f} N/m, rms speed {:.3f} m/s",
+            "cohesion energy / area {:.4f} N/m, rms speed {:.3f} m/s; surface stress across the "
+            "equator {:.1f} Pa, across r < R/2 {:.1f} Pa",
             1e3 * drop.radius, drop.particles, 1e6 * drop.dt, drop.pressure,
             drop.mean.constraintInner / drop.innerArea(), drop.mean.pullInner / drop.innerArea(),
             drop.mean.coreInner / drop.innerArea(), drop.mean.kineticInner / drop.innerArea(),
@@ -250,7 +268,8 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, const Optio
             drop.constraintShare, drop.mean.constraintFit / drop.area(), drop.mean.fitResidual,
             drop.mean.pull / drop.area(), drop.mean.core / drop.area(),
             drop.mean.kinetic / drop.area(), drop.balance(), drop.mean.surface,
-            drop.mean.energy / (4.0 * drop.area()), drop.vrms()));
+            drop.mean.energy / (4.0 * drop.area()), drop.vrms(), drop.mean.stress / drop.area(),
+            drop.mean.stressInner / drop.innerArea()));
     return drop;
 }
 
@@ -300,8 +319,8 @@ CaseResult run(const Options& options) {
     // = 5 times too high, one missing a dt or the warm start's share far off.
     for (const Drop* d : {&small, &large})
         result.checks.push_back(
-            {fmt::format("{:.1f} mm drop: (constraint + core + kinetic) / cohesion pull across "
-                         "the equator",
+            {fmt::format("{:.1f} mm drop: (constraint + core + kinetic) / (cohesion pull + surface "
+                         "stress) across the equator",
                          1e3 * d->radius),
              d->balance(), 1.0, 0.2, "", "Newton's third law on the upper half at rest",
              "20 %: the kinetic share is estimated in a slab two spacings thick, and the "
@@ -321,7 +340,8 @@ CaseResult run(const Options& options) {
         "0.8, XSPH 0.05; 0.15 s to settle, then the constraint's force across the equator "
         "averaged for 0.15 s. Pressure: the total stress across the equator's inner disc "
         "(r < R / 2: constraint, split pair by pair by a least-squares fit of one lambda per "
-        "particle, + cohesion pull + core + momentum flux); the constraint's force across the "
+        "particle, + cohesion pull + core + continuum surface stress + momentum flux); the "
+        "constraint's force across the "
         "whole equator alone: {:.1f} and {:.1f} Pa. The {:.1f} mm drop at a substep of {:.0f} "
         "us instead of {:.0f}: rms speed {:.3f} m/s instead of {:.3f}, {:.0f} surface particles "
         "instead of {:.0f}, pressure {:.1f} Pa instead of {:.1f} (constraint's share {:.1f} "

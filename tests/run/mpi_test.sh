@@ -108,8 +108,10 @@ echo "emitter + solid + vorticity, 2 ranks: $(same_frames "$work/pour1" "$work/p
     { cat "$work/pour_tcp.log"; fail "2 ranks over TCP failed"; }
 echo "over TCP (loopback), 2 ranks: $(same_frames "$work/pour1" "$work/pour_tcp") frames bit-identical"
 
-# Surface tension with adhesion on the walls and a solid: its pass reads the
-# ghosts' x* and densities (exchanged for the density constraint already).
+# Surface tension with adhesion on the walls and a solid: the cohesion's pass
+# reads the ghosts' x* and densities (exchanged for the density constraint
+# already); the continuum surface stress exchanges the ghosts' T (computed by
+# their owners: a ghost's own neighbourhood is incomplete).
 tension=(run "$src/tests/data/mpi_surface_tension.json" -q --no-plot --render none
          --checkpoint-every 0 --checkpoint-seconds 0)
 "$pbf" "${tension[@]}" --out "$work/tension1" > /dev/null

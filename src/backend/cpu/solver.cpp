@@ -227,6 +227,33 @@ void Solver::buildPlan() {
                    });
                },
                [](const SolverStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
+    // The continuum surface stress (equations.hpp): T_i of the owned
+    // particles from the neighbours' x* (the ghosts' T comes from their
+    // owners: a ghost's own neighbourhood is incomplete), then the pair
+    // force, v += dt a after the cohesion.
+    const auto surfaceStressOn = [](const SolverStep& s) {
+        return s.context.constants.surfaceStress > 0.0f;
+    };
+    plan_.add(Part::After, {Stage::SurfaceStress,
+                            [this](SolverStep& s) {
+                                surfaceStress_.resize(s.particles.size());
+                                s.surfaceStress = surfaceStress_.data();
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::computeSurfaceStress(s.context.constants, search_,
+                                                                 s.predicted, s.surfaceStress, b,
+                                                                 e);
+                                });
+                            },
+                            surfaceStressOn});
+    plan_.add(Part::After, {Stage::SurfaceStressForce,
+                            [this](SolverStep& s) {
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::applySurfaceStress(s.context.constants, s.dt, search_,
+                                                               s.predicted, s.surfaceStress,
+                                                               s.particles.velocity, b, e);
+                                });
+                            },
+                            surfaceStressOn});
     plan_.add(Part::After, {Stage::BoundaryResponse, [](SolverStep& s) {
                                 const SolverParams& solver = s.context.params.solver;
                                 ParticleStore& p = s.particles;
@@ -250,7 +277,8 @@ std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
            sizeof(float) * 3 * vorticity_.x.capacity() +
-           sizeof(std::int64_t) * blockCompression_.capacity();
+           sizeof(std::int64_t) * blockCompression_.capacity() +
+           sizeof(Sym3) * surfaceStress_.capacity();
 }
 
 }  // namespace pbf

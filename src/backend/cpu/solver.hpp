@@ -8,7 +8,8 @@
 //   iterations     rho_i, lambda_i; dp_i with s_corr; x* += dp; box projection (l. 8-19)
 //   velocity       v = (x* - x) / dt                           (l. 21)
 //   post-process   vorticity confinement, XSPH viscosity       (l. 22)
-//   surface tension cohesion of the surface layer, adhesion: v += dt a
+//   surface tension cohesion of the surface layer, adhesion: v += dt a;
+//                  the continuum surface stress T_i, then v += dt a of its force
 //   wall response  restitution and friction on the domain walls
 //   commit         x = x*                                      (l. 23)
 // Every stage is a function over particle ranges in solver_stages.hpp; the
@@ -23,6 +24,7 @@
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
 #include "core/iteration_control.hpp"
+#include "core/sym3.hpp"
 #include "pbf/backend/backend.hpp"
 #include "pbf/core/particles.hpp"
 
@@ -67,6 +69,7 @@ struct SolverStep : StepProgress {
     PackedPoint* predicted = nullptr;
     PackedPoint* withLambda = nullptr;
     Float3Array* vorticity = nullptr;  // omega_i, only while vorticity confinement is on
+    Sym3* surfaceStress = nullptr;     // T_i, only while surface tension is on
 };
 
 class Solver {
@@ -105,6 +108,7 @@ class Solver {
     std::vector<PackedPoint> packedWithLambda_;
     Float3Array vorticity_;
     std::vector<std::int64_t> blockCompression_;  // sum of C_i per block, fixed point
+    std::vector<Sym3> surfaceStress_;             // T_i of the continuum surface stress
 };
 
 }  // namespace pbf

@@ -11,6 +11,7 @@
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver.hpp"
 #include "backend/reactions.hpp"
+#include "core/sym3.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/geometry/solids.hpp"
@@ -111,6 +112,17 @@ void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const Sol
                          float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
                          const PackedPoint* positionDensity, Float3Array& velocity,
                          std::size_t begin, std::size_t end);
+
+// The continuum surface stress (reference::surfaceStressOf): T_i from the
+// neighbours' x* (surface_stress_pass.cpp).
+void computeSurfaceStress(const SolverConstants& c, const NeighborSearch& search,
+                          const PackedPoint* predicted, Sym3* stress, std::size_t begin,
+                          std::size_t end);
+// Its force (reference::surfaceStressVelocityChangeOf): v_i += dt a_i from the
+// stresses of i and its neighbours (all of them computed first).
+void applySurfaceStress(const SolverConstants& c, float dt, const NeighborSearch& search,
+                        const PackedPoint* predicted, const Sym3* stress, Float3Array& velocity,
+                        std::size_t begin, std::size_t end);
 
 // (x*, rho) packed for surface tension's pass.
 void packPositionDensities(const PackedPoint* predicted, const float* density,

@@ -14,7 +14,8 @@
 //   density_and_lambda, [compression_totals, convergence_check],
 //   correct_positions (Jacobi)                                 l. 8-19
 //   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
-//   [physical_viscosity], vorticity_confinement, [surface_tension],
+//   [physical_viscosity], vorticity_confinement, [surface_tension,
+//   surface_stress, surface_stress_force],
 //   boundary_response (x = x*)                                 l. 20-24
 // The particle fields come from the one list (include/pbf/core/particle_fields.hpp):
 // DeviceParticles has a member per field, and upload, download, append and
@@ -610,6 +611,21 @@ class DeviceBackend final : public Backend {
                                                  {raw(p_.density)},
                                                  {}});
             out.surfaceTensionVelocity = vectors(corrected_);
+            // The continuum surface stress alone, on v = 0 with a step of 1 s:
+            // its acceleration a.
+            surfaceStress_.resize(n);
+            thrust::fill(corrected_.x.begin(), corrected_.x.end(), 0.0f);
+            thrust::fill(corrected_.y.begin(), corrected_.y.end(), 0.0f);
+            thrust::fill(corrected_.z.begin(), corrected_.z.end(), 0.0f);
+            forEachIndex(
+                n, SurfaceStressKernel{cs, search, p_.predicted.view(), {raw(surfaceStress_)}});
+            forEachIndex(n, SurfaceStressForceKernel{cs,
+                                                     1.0f,
+                                                     search,
+                                                     p_.predicted.view(),
+                                                     corrected_.view(),
+                                                     {raw(surfaceStress_)}});
+            out.surfaceStressAcceleration = vectors(corrected_);
         }
         return out;
     }
@@ -670,6 +686,7 @@ class DeviceBackend final : public Backend {
             params.fluid.kinematicViscosity > 0.0f)
             post_.resize(n);
         if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
+        if (params.fluid.surfaceTension > 0.0f) surfaceStress_.resize(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
         if (reactionsActive_) {
             solidCount_ = solids.solids.count;
@@ -932,6 +949,30 @@ class DeviceBackend final : public Backend {
                        foldReactions(1);
                    },
                    [](const DeviceStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
+        // The continuum surface stress: every T_i, then its force v += dt a.
+        const auto surfaceStressOn = [](const DeviceStep& s) {
+            return s.context.constants.surfaceStress > 0.0f;
+        };
+        plan_.add(Part::After, {Stage::SurfaceStress,
+                                [this](DeviceStep& s) {
+                                    forEachIndex(p_.size(),
+                                                 SurfaceStressKernel{s.context.constants,
+                                                                     s.search,
+                                                                     p_.predicted.view(),
+                                                                     {raw(surfaceStress_)}});
+                                },
+                                surfaceStressOn});
+        plan_.add(Part::After, {Stage::SurfaceStressForce,
+                                [this](DeviceStep& s) {
+                                    forEachIndex(p_.size(),
+                                                 SurfaceStressForceKernel{s.context.constants,
+                                                                          s.dt,
+                                                                          s.search,
+                                                                          p_.predicted.view(),
+                                                                          p_.velocity.view(),
+                                                                          {raw(surfaceStress_)}});
+                                },
+                                surfaceStressOn});
         plan_.add(Part::After,
                   {Stage::BoundaryResponse, [this](DeviceStep& s) {
                        const SolverParams& solver = s.context.params.solver;
@@ -981,6 +1022,7 @@ class DeviceBackend final : public Backend {
         std::size_t bytes = 0;
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
         bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
+        bytes += bytesOf(surfaceStress_);
         bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
@@ -1009,6 +1051,7 @@ class DeviceBackend final : public Backend {
     DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
     DeviceFloat3 vorticity_;  // omega, while confinement is on
     DeviceArray<float> lambda_;
+    DeviceArray<Sym3> surfaceStress_;  // T_i, while surface tension is on
     DeviceArray<std::uint32_t> keys_, order_, cellStart_;
     DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
     DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices

@@ -23,6 +23,7 @@
 #include "core/blocks.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
+#include "core/sym3.hpp"
 #include "pbf/core/config.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -49,6 +50,12 @@ struct Float3View {
 struct FloatView {
     float* values = nullptr;
     PBF_HD float operator()(std::uint32_t i) const { return values[i]; }
+};
+
+// A symmetric tensor attribute (the continuum surface stress T_i).
+struct Sym3View {
+    Sym3* values = nullptr;
+    PBF_HD Sym3 operator()(std::uint32_t i) const { return values[i]; }
 };
 
 // The neighbours of particle i as the reference's lists would hold them:
@@ -368,6 +375,34 @@ struct SurfaceTensionKernel {
         velocity.set(i, velocity(i) + dt * a.total);
         if (reactions.active())
             reactions.record(i, a.solid, predicted(i), (dt * dt) * a.solidAcceleration);
+    }
+};
+
+// The continuum surface stress (equations.hpp, "Continuum surface
+// stress"): T_i from the neighbours' x* (reference::surfaceStressOf), for
+// every particle before the force kernel reads them.
+struct SurfaceStressKernel {
+    SolverConstants c;
+    NeighborLists search;
+    Float3View predicted;
+    Sym3View stress;
+    PBF_HD void operator()(std::uint32_t i) const {
+        stress.values[i] = reference::surfaceStressOf(c, search.of(i), predicted, i);
+    }
+};
+
+// Its pair force, v_i += dt a_i (reference::surfaceStressVelocityChangeOf),
+// after surface tension's kernel (as the CPU adds it after the cohesion).
+struct SurfaceStressForceKernel {
+    SolverConstants c;
+    float dt = 0.0f;
+    NeighborLists search;
+    Float3View predicted, velocity;
+    Sym3View stress;
+    PBF_HD void operator()(std::uint32_t i) const {
+        const Vec3 dv =
+            reference::surfaceStressVelocityChangeOf(c, dt, search.of(i), predicted, stress, i);
+        velocity.set(i, velocity(i) + dv);
     }
 };
 

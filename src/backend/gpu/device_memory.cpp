@@ -28,6 +28,8 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
         params.fluid.kinematicViscosity > 0.0f)
         bytes += vec3;
     if (params.fluid.vorticity > 0.0f) bytes += vec3;  // omega
+    // The continuum surface stress T_i: six floats.
+    if (params.fluid.surfaceTension > 0.0f) bytes += 6 * scalar;
     // Two slots of reaction records (solid, x, d) for coupled solids.
     if (coupledSolids) bytes += 2 * (scalar + 2 * vec3);
     return bytes;

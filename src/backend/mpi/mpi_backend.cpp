@@ -294,6 +294,14 @@ class MpiBackend final : public Backend {
             Stage::ViscosityAndVorticity,
             {Stage::ExchangeVorticity, [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
              [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
+        // The continuum surface stress: T of the owned particles, then the
+        // ghosts' from their owners (a ghost's neighbours beyond the halo
+        // are missing: its own g would be wrong).
+        plan.insertAfter(
+            Stage::SurfaceStress,
+            {Stage::ExchangeSurfaceStress,
+             [this](SolverStep& s) { halo_.exchange(s.surfaceStress); },
+             [](const SolverStep& s) { return s.context.constants.surfaceStress > 0.0f; }});
         // End of the step: the ghosts are dropped.
         plan.insertAfter(Stage::BoundaryResponse,
                          {Stage::Collect, [this](SolverStep& s) { halo_.collect(s.particles); }});

@@ -19,6 +19,7 @@
 //   density and its gradient (1/m^4) to grad_i C_i, and carry no lambda.
 #pragma once
 
+#include "core/sym3.hpp"
 #include "pbf/core/config.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -263,6 +264,57 @@ PBF_HD inline Vec3 cohesionTerm(const SolverConstants& c, const Vec3& rij, bool 
 // gives the contact angle cos(theta) = 2 a - 1.
 PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pull) {
     return c.adhesionScale * pull;
+}
+
+// ---- Continuum surface stress (the static surface tension) -----------------
+//
+// The cohesion above holds outlying particles but no static tension: its
+// in-plane pull compresses the layer until the density constraint pushes
+// back (docs/surface_tension.md, items 8-9). A liquid's tension is a
+// tangential stress of fixed size sigma: the continuum surface stress
+// (Lafaurie et al. 1994; Hu & Adams 2006, J. Comput. Phys. 213, eq. 14-16)
+//   g_i = sum_j V grad W_ij          (V = m / rho0, spiky: grad c, 1/m)
+//   T_i = sigma_css max(|g_i| - g0 / d, 0) (I - n_i n_i),  n_i = g_i / |g_i|
+//   a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij
+// (Hu & Adams' eq. 16 with the volumes m / rho0 of the incompressible
+// bulk), pairwise antisymmetric (momentum conserved), v += dt a after the
+// cohesion at x*. T has no component along n, so a flat surface is not
+// pulled along its normal; where it curves, the in-plane tension pulls the
+// layer inwards. The floor g0 / d keeps the bulk's noise (every particle
+// has some |g|) from carrying a tension. sigma_css = SolverConstants::
+// surfaceStress, g0 / d = surfaceStressFloor (calibration:
+// core/solver_constants.cpp).
+
+// The term of neighbour j of g_i = grad c at x_i: V grad W_ij. (V as
+// m / rho0 rounded once, and the roundings below, as in the calibration's
+// experiment, docs/surface_tension.md item 9: its figures are reproduced
+// bit for bit.)
+PBF_HD inline Vec3 colourGradientTerm(const SolverConstants& c, const Vec3& rij) {
+    return c.spiky.gradient(rij, length(rij)) * (c.particleMass / c.restDensity);
+}
+
+// T_i from g_i: a tension sigma_css (|g| - floor) in the plane normal to g,
+// none along it; zero at or below the floor (and for a g that is not finite).
+PBF_HD inline Sym3 surfaceStressOfGradient(const SolverConstants& c, const Vec3& g) {
+    const float n = std::sqrt(lengthSquared(g));
+    if (!(n > c.surfaceStressFloor)) return {};
+    const float n2 = n * n;
+    const float s = c.surfaceStress * (n - c.surfaceStressFloor) / n2;
+    return {s * (n2 - g.x * g.x), s * (n2 - g.y * g.y), s * (n2 - g.z * g.z),
+            -s * g.x * g.y,       -s * g.x * g.z,       -s * g.y * g.z};
+}
+
+// The term of neighbour j of the pair sum (T_i + T_j) grad W_ij (N/m^5);
+// equal and opposite for the pair (grad W_ji = -grad W_ij).
+PBF_HD inline Vec3 surfaceStressPairTerm(const SolverConstants& c, const Sym3& stressI,
+                                         const Sym3& stressJ, const Vec3& rij) {
+    return (stressI + stressJ) * c.spiky.gradient(rij, length(rij));
+}
+
+// dt a_i from the summed pair terms: times dt m / rho0^2 (dt = 1: a_i).
+PBF_HD inline Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt,
+                                               const Vec3& pairSum) {
+    return (dt * c.particleMass / (c.restDensity * c.restDensity)) * pairSum;
 }
 
 // ---- Physical viscosity (an addition to the paper) ---------------------------

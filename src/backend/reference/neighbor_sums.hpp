@@ -199,4 +199,30 @@ PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, flo
     return a;
 }
 
+// The continuum surface stress (equations.hpp, "Continuum surface
+// stress"): T_i from g_i = grad c at the positions x (the end-of-step x*).
+// Every particle's T is computed before any acceleration (a pre-pass).
+template <class Neighbors, class Positions>
+PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Neighbors& neighbors,
+                            const Positions& x, std::uint32_t i) {
+    const Vec3 xi = x(i);
+    Vec3 g{};
+    neighbors([&](std::uint32_t j) { g += colourGradientTerm(c, xi - x(j)); });
+    return surfaceStressOfGradient(c, g);
+}
+
+// Its velocity change dt a_i, a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij,
+// from the stresses T of particle i and its neighbours (dt = 1: a_i).
+template <class Neighbors, class Positions, class Stresses>
+PBF_HD Vec3 surfaceStressVelocityChangeOf(const SolverConstants& c, float dt,
+                                          const Neighbors& neighbors, const Positions& x,
+                                          const Stresses& stress, std::uint32_t i) {
+    const Vec3 xi = x(i);
+    const Sym3 stressI = stress(i);
+    Vec3 sum{};
+    neighbors(
+        [&](std::uint32_t j) { sum += surfaceStressPairTerm(c, stressI, stress(j), xi - x(j)); });
+    return surfaceStressVelocityChange(c, dt, sum);
+}
+
 }  // namespace pbf::reference

@@ -78,4 +78,16 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                             index(i));
 }
 
+Sym3 surfaceStress(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                   std::size_t i) {
+    return surfaceStressOf(c, ListNeighbors{neighbors}, Array{x}, index(i));
+}
+
+Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
+                                 std::span<const Sym3> stress, NeighborIndices neighbors,
+                                 std::size_t i) {
+    return surfaceStressVelocityChangeOf(c, dt, ListNeighbors{neighbors}, Array{x}, Array{stress},
+                                         index(i));
+}
+
 }  // namespace pbf::reference

@@ -58,4 +58,14 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                                           std::span<const float> rho, NeighborIndices neighbors,
                                           std::size_t i);
 
+// The continuum surface stress T_i at the positions x (surfaceStressOf).
+Sym3 surfaceStress(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                   std::size_t i);
+
+// Its velocity change dt a_i of particle i from the stresses of all
+// particles (surfaceStressVelocityChangeOf; dt = 1: a_i).
+Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
+                                 std::span<const Sym3> stress, NeighborIndices neighbors,
+                                 std::size_t i);
+
 }  // namespace pbf::reference

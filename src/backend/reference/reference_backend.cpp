@@ -5,7 +5,8 @@
 //   iterations     rho_i, lambda_i for all; dp_i for all; x* += dp      (l. 8-19)
 //   velocity       v = (x* - x) / dt                                    (l. 21)
 //   post-process   XSPH viscosity and vorticity confinement             (l. 22)
-//   surface tension  cohesion and adhesion (equations.hpp), v += dt a
+//   surface tension  cohesion and adhesion (equations.hpp), v += dt a;
+//                  the continuum surface stress T_i, then its force, v += dt a
 //   wall response  restitution and friction on the walls and solids
 //   commit         x = x*                                               (l. 23)
 // and, when a solid is coupled (a rigid body), the reaction of everything
@@ -208,6 +209,16 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
                 reactions->add(i, a.solid, predicted_[i], (dt * dt) * a.solidAcceleration);
         }
     }
+    // The continuum surface stress (equations.hpp): every T_i first, then
+    // the pair force, v += dt a after the cohesion, at x*.
+    if (c.surfaceStress > 0.0f) {
+        surfaceStress_.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            surfaceStress_[i] = reference::surfaceStress(c, predicted_, grid_.neighbors(i), i);
+        for (std::size_t i = 0; i < n; ++i)
+            velocity_[i] += reference::surfaceStressVelocityChange(
+                c, dt, predicted_, surfaceStress_, grid_.neighbors(i), i);
+    }
     // Restitution and friction on the walls and solids, then x = x* (l. 23).
     for (std::size_t i = 0; i < n; ++i) {
         Vec3 v =
@@ -233,7 +244,8 @@ std::size_t ReferenceBackend::bufferBytes() const {
                           velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity() +
                           predictedVelocity_.capacity() + solveAcceleration_.capacity() +
                           viscosityAcceleration_.capacity();
-    return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity());
+    return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity()) +
+           sizeof(Sym3) * surfaceStress_.capacity();
 }
 
 BackendDiagnostics ReferenceBackend::diagnostics() const {

@@ -14,6 +14,7 @@
 
 #include "backend/host_backend.hpp"
 #include "backend/reference/neighbor_grid.hpp"
+#include "core/sym3.hpp"
 
 namespace pbf {
 
@@ -41,6 +42,7 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> predictedVelocity_;      // v + dt g, before the iterations
     std::vector<Vec3> solveAcceleration_;      // warm start: the last substep's, then this one's
     std::vector<Vec3> viscosityAcceleration_;  // physical viscosity: nu lap v of this substep
+    std::vector<Sym3> surfaceStress_;          // T_i of the continuum surface stress
     std::vector<float> density_;
     std::vector<float> lambda_;
 };

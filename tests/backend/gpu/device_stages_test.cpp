@@ -98,6 +98,24 @@ TEST_P(DeviceVsReference, PhysicalViscosityStageMatchesTheReference) {
               kViscosityAgreement);
 }
 
+// The continuum surface stress's two kernels (T, then the force) against
+// the reference's sums within the bound of stage_agreement.hpp
+// (surfaceStressDeviation), with surface tension's constants.
+TEST_P(DeviceVsReference, SurfaceStressKernelsMatchTheReference) {
+    PBF_REQUIRE_DEVICE();
+    const Case& param = GetParam();
+    const Cloud cloud = param.make(param.count);
+    const SolverConstants cs = surfaceTensionConstants(cloud);
+    std::vector<Vec3> x;
+    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
+        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
+    const SimulationParams surfaceTension = surfaceTensionParams(cloud);
+    const gpu::StageOutputs out = runDeviceStages(cloud.params, cloud.solids.get(), x,
+                                                  cloud.predicted, kStageDt, &surfaceTension);
+    ASSERT_EQ(out.surfaceStressAcceleration.size(), x.size());
+    EXPECT_LE(surfaceStressDeviation(cloud, cs, out.xStar, out.surfaceStressAcceleration), 1.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Clouds, DeviceVsReference,
                          ::testing::Values(Case{"Uniform", &uniformCloud, 3001},
                                            Case{"Clustered", &clusteredCloud, 4099},

@@ -544,4 +544,65 @@ double physicalViscosityDeviation(const Cloud& cloud, const SolverConstants& c, 
     return worst;
 }
 
+double surfaceStressDeviation(const Cloud& cloud, const SolverConstants& c,
+                              const std::vector<Vec3>& xStar, const std::vector<Vec3>& a) {
+    const std::size_t n = xStar.size();
+    reference::NeighborGrid grid(cloud.params.domain, c.h);
+    grid.build(xStar);
+    std::vector<Sym3> stress(n);
+    std::vector<double> gradientError(n), stressError(n);
+    std::size_t aboveFloor = 0;
+    const double sigma = c.surfaceStress;
+    for (std::size_t i = 0; i < n; ++i) {
+        double terms = 0.0;
+        Vec3 g{};
+        const auto neighbours = grid.neighbors(i);
+        for (const std::uint32_t j : neighbours) {
+            const Vec3 t = reference::colourGradientTerm(c, xStar[i] - xStar[j]);
+            g += t;
+            terms += std::fabs(t.x) + std::fabs(t.y) + std::fabs(t.z);
+        }
+        stress[i] = reference::surfaceStress(c, xStar, neighbours, i);
+        if (stress[i].trace() != 0.0f) ++aboveFloor;
+        const int count = int(neighbours.size());
+        gradientError[i] = 2.0 * (gamma(count) + gamma(12)) * terms;
+        stressError[i] = 3.0 * sigma * gradientError[i] + 3.0 * gamma(12) * sigma * length(g);
+    }
+    const double k = double(c.particleMass) / (double(c.restDensity) * c.restDensity);
+    const auto frobenius = [](const Sym3& t) {
+        return std::sqrt(double(t.xx) * t.xx + double(t.yy) * t.yy + double(t.zz) * t.zz +
+                         2.0 * (double(t.xy) * t.xy + double(t.xz) * t.xz + double(t.yz) * t.yz));
+    };
+    double worst = 0.0;
+    std::vector<double> relative;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto neighbours = grid.neighbors(i);
+        const Vec3 ref =
+            reference::surfaceStressVelocityChange(c, 1.0f, xStar, stress, neighbours, i);
+        double propagated = 0.0, summed = 0.0;
+        for (const std::uint32_t j : neighbours) {
+            const Vec3 rij = xStar[i] - xStar[j];
+            const double gradient = length(c.spiky.gradient(rij, length(rij)));
+            propagated += (stressError[i] + stressError[j]) * gradient;
+            summed += frobenius(stress[i] + stress[j]) * gradient;
+        }
+        const int count = int(neighbours.size());
+        const double bound = k * (propagated + 2.0 * (gamma(count) + gamma(12)) * summed) +
+                             gamma(4) * length(ref) + 1e-30;
+        for (int axis = 0; axis < 3; ++axis)
+            worst = std::max(worst, std::fabs(double(a[i][axis]) - double(ref[axis])) / bound);
+        if (length(ref) > 0.0f) relative.push_back(bound / length(ref));
+    }
+    std::sort(relative.begin(), relative.end());
+    const double median = relative.empty() ? 0.0 : relative[relative.size() / 2];
+    std::printf(
+        "  %s: largest |stage - reference| / bound %.3f; bound / |a| median %.1e; %zu of %zu "
+        "particles above the floor\n",
+        cloud.name.c_str(), worst, median, aboveFloor, n);
+    // The cloud exercises the stress: most particles above the floor, not all.
+    EXPECT_GT(aboveFloor, n / 10) << cloud.name;
+    EXPECT_LT(aboveFloor, n) << cloud.name;
+    return worst;
+}
+
 }  // namespace pbf::test

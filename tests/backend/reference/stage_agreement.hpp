@@ -163,4 +163,28 @@ double physicalViscosityDeviation(const Cloud& cloud, const SolverConstants& c, 
                                   const std::vector<float>& density, const std::vector<Vec3>& after,
                                   float stepDt);
 
+// The continuum surface stress (equations.hpp, "Continuum surface stress"):
+// an implementation's two stages (T_i for every particle, then the pair
+// force) at x* (its particle order) gave the accelerations `a`. Both sums
+// call the same terms (colourGradientTerm, surfaceStressOfGradient,
+// surfaceStressPairTerm) on the same floats, in another neighbour order, so
+// per particle (Higham's gamma_k = k u / (1 - k u), u = 2^-24):
+//   g:  |g - g_ref| <= E_g = 2 (gamma_n + gamma_12) sum_j |t_ij|_1, t_ij the
+//       terms (the order's gamma_{n-1} twice, up to 12 roundings per term
+//       in either implementation);
+//   T:  T(g) = sigma (|g| - f)(I - n n) is Lipschitz in g with constant
+//       3 sigma in the operator norm (sigma for |g|, 2 sigma (|g| - f) / |g|
+//       <= 2 sigma for the turn of n), continuous at the floor f, and its
+//       own 12 roundings are relative to entries of at most sigma |g|:
+//       |T - T_ref| <= E_T = 3 sigma E_g + 3 gamma_12 sigma |g|;
+//   a:  a = K sum_j (T_i + T_j) G_ij, K = m / rho0^2: per component
+//       |a - a_ref| <= K [sum_j (E_T,i + E_T,j) |G_ij| + 2 (gamma_n + gamma_12)
+//       sum_j |T_i + T_j|_F |G_ij|] + gamma_4 |a|.
+// Returns the largest |a - a_ref| / bound over particles and components (the
+// tests ask for <= 1); prints it, the bound's median size relative to |a|
+// (how tight it is: a missing T_j or a wrong sign moves a by ~|a|), and the
+// share of particles above the floor (the cloud must exercise both sides).
+double surfaceStressDeviation(const Cloud& cloud, const SolverConstants& c,
+                              const std::vector<Vec3>& xStar, const std::vector<Vec3>& a);
+
 }  // namespace pbf::test
