@@ -130,7 +130,7 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
     // T_i of the continuum surface stress, as the solver's pass computes it.
     std::vector<Sym3> stressOf(x.size());
     for (std::size_t i = 0; i < x.size(); ++i)
-        stressOf[i] = reference::surfaceStress(c, x, neighbours[i], i);
+        stressOf[i] = reference::surfaceStress(c, nullptr, x, neighbours[i], i);
     const double stressScale = m * m / (double(c.restDensity) * c.restDensity);  // m (m / rho0^2)
     const detail::ConstraintPairs fit = detail::fitConstraintPairs(x, solve, neighbours, c.spiky);
     const Vec3 centre = detail::centroid(x);

@@ -239,9 +239,9 @@ void Solver::buildPlan() {
                                 surfaceStress_.resize(s.particles.size());
                                 s.surfaceStress = surfaceStress_.data();
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::computeSurfaceStress(s.context.constants, search_,
-                                                                 s.predicted, s.surfaceStress, b,
-                                                                 e);
+                                    stages::computeSurfaceStress(s.context.constants, s.solids,
+                                                                 search_, s.predicted,
+                                                                 s.surfaceStress, b, e);
                                 });
                             },
                             surfaceStressOn});

@@ -115,9 +115,9 @@ void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const Sol
 
 // The continuum surface stress (reference::surfaceStressOf): T_i from the
 // neighbours' x* (surface_stress_pass.cpp).
-void computeSurfaceStress(const SolverConstants& c, const NeighborSearch& search,
-                          const PackedPoint* predicted, Sym3* stress, std::size_t begin,
-                          std::size_t end);
+void computeSurfaceStress(const SolverConstants& c, const SolidSet* solids,
+                          const NeighborSearch& search, const PackedPoint* predicted, Sym3* stress,
+                          std::size_t begin, std::size_t end);
 // Its force (reference::surfaceStressVelocityChangeOf): v_i += dt a_i from the
 // stresses of i and its neighbours (all of them computed first).
 void applySurfaceStress(const SolverConstants& c, float dt, const NeighborSearch& search,

@@ -34,11 +34,11 @@ struct Stresses {
 
 }  // namespace
 
-void computeSurfaceStress(const SolverConstants& c, const NeighborSearch& search,
-                          const PackedPoint* predicted, Sym3* stress, std::size_t begin,
-                          std::size_t end) {
+void computeSurfaceStress(const SolverConstants& c, const SolidSet* solids,
+                          const NeighborSearch& search, const PackedPoint* predicted, Sym3* stress,
+                          std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
-        stress[i] = reference::surfaceStressOf(c, ListNeighbors{search.neighbors(i)},
+        stress[i] = reference::surfaceStressOf(c, solids, ListNeighbors{search.neighbors(i)},
                                                PackedPositions{predicted}, std::uint32_t(i));
 }
 

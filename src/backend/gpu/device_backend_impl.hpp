@@ -617,8 +617,8 @@ class DeviceBackend final : public Backend {
             thrust::fill(corrected_.x.begin(), corrected_.x.end(), 0.0f);
             thrust::fill(corrected_.y.begin(), corrected_.y.end(), 0.0f);
             thrust::fill(corrected_.z.begin(), corrected_.z.end(), 0.0f);
-            forEachIndex(
-                n, SurfaceStressKernel{cs, search, p_.predicted.view(), {raw(surfaceStress_)}});
+            forEachIndex(n, SurfaceStressKernel{
+                                cs, solids, search, p_.predicted.view(), {raw(surfaceStress_)}});
             forEachIndex(n, SurfaceStressForceKernel{cs,
                                                      1.0f,
                                                      search,
@@ -957,6 +957,7 @@ class DeviceBackend final : public Backend {
                                 [this](DeviceStep& s) {
                                     forEachIndex(p_.size(),
                                                  SurfaceStressKernel{s.context.constants,
+                                                                     s.solids,
                                                                      s.search,
                                                                      p_.predicted.view(),
                                                                      {raw(surfaceStress_)}});

@@ -383,11 +383,12 @@ struct SurfaceTensionKernel {
 // every particle before the force kernel reads them.
 struct SurfaceStressKernel {
     SolverConstants c;
+    SolidsArgument solids;
     NeighborLists search;
     Float3View predicted;
     Sym3View stress;
     PBF_HD void operator()(std::uint32_t i) const {
-        stress.values[i] = reference::surfaceStressOf(c, search.of(i), predicted, i);
+        stress.values[i] = reference::surfaceStressOf(c, solids.get(), search.of(i), predicted, i);
     }
 };
 

@@ -304,6 +304,32 @@ PBF_HD inline Sym3 surfaceStressOfGradient(const SolverConstants& c, const Vec3&
             -s * g.x * g.y,       -s * g.x * g.z,       -s * g.y * g.z};
 }
 
+// The walls' and solids' share of g_i: the boundary counted as the rest
+// lattice continued beyond its surface, the density constraint's boundary
+// gradient (boundary::addWallContribution / addSolidContribution,
+// WallTable::gradientSum, pointing into the boundary as g's pair terms
+// point to their neighbours), times V. Without it a particle on a wall
+// reads the missing water beyond it as a free surface.
+PBF_HD inline Vec3 boundaryColourGradient(const SolverConstants& c, const Vec3& boundaryGradient) {
+    return boundaryGradient * (c.particleMass / c.restDensity);
+}
+
+// T_i beside a wall or solid: the liquid-vapour tension from g_p + g_b (the
+// boundary is water for the free surface's colour: on a thick drop's
+// wetted layer the two cancel) plus the liquid-solid interface's own,
+// sigma_css max(|g_b| - floor, 0) (I - m m), m = g_b / |g_b|, in the
+// boundary's plane. So a film on the boundary pays for both of its
+// interfaces (with the particles' g alone a layer thinner than h has
+// |g| ~ 0 and spreads for free; with the wall only as water the wetted
+// area costs nothing and the adhesion alone spreads the drop); the
+// adhesion's work 2 a sigma is then set against them as Young-Dupre has it
+// (docs/surface_tension.md, item 11). Away from the boundaries g_b = 0 and
+// T is surfaceStressOfGradient(g_p) exactly.
+PBF_HD inline Sym3 surfaceStressNearBoundary(const SolverConstants& c, const Vec3& particles,
+                                             const Vec3& boundary) {
+    return surfaceStressOfGradient(c, particles + boundary) + surfaceStressOfGradient(c, boundary);
+}
+
 // The term of neighbour j of the pair sum (T_i + T_j) grad W_ij (N/m^5);
 // equal and opposite for the pair (grad W_ji = -grad W_ij).
 PBF_HD inline Vec3 surfaceStressPairTerm(const SolverConstants& c, const Sym3& stressI,

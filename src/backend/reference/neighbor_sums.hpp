@@ -200,15 +200,17 @@ PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, flo
 }
 
 // The continuum surface stress (equations.hpp, "Continuum surface
-// stress"): T_i from g_i = grad c at the positions x (the end-of-step x*).
-// Every particle's T is computed before any acceleration (a pre-pass).
-template <class Neighbors, class Positions>
-PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Neighbors& neighbors,
-                            const Positions& x, std::uint32_t i) {
+// stress"): T_i from g_i = grad c at the positions x (the end-of-step x*),
+// the walls' and solids' share included (`solids` may be null). Every
+// particle's T is computed before any acceleration (a pre-pass).
+template <class Solids, class Neighbors, class Positions>
+PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Solids* solids,
+                            const Neighbors& neighbors, const Positions& x, std::uint32_t i) {
     const Vec3 xi = x(i);
     Vec3 g{};
     neighbors([&](std::uint32_t j) { g += colourGradientTerm(c, xi - x(j)); });
-    return surfaceStressOfGradient(c, g);
+    return surfaceStressNearBoundary(
+        c, g, boundaryColourGradient(c, boundaryTerms(c, solids, xi).gradient));
 }
 
 // Its velocity change dt a_i, a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij,

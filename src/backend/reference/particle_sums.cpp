@@ -78,9 +78,9 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                             index(i));
 }
 
-Sym3 surfaceStress(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
-                   std::size_t i) {
-    return surfaceStressOf(c, ListNeighbors{neighbors}, Array{x}, index(i));
+Sym3 surfaceStress(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
+                   NeighborIndices neighbors, std::size_t i) {
+    return surfaceStressOf(c, solids, ListNeighbors{neighbors}, Array{x}, index(i));
 }
 
 Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,

@@ -58,9 +58,10 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                                           std::span<const float> rho, NeighborIndices neighbors,
                                           std::size_t i);
 
-// The continuum surface stress T_i at the positions x (surfaceStressOf).
-Sym3 surfaceStress(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
-                   std::size_t i);
+// The continuum surface stress T_i at the positions x (surfaceStressOf;
+// `solids` may be null).
+Sym3 surfaceStress(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
+                   NeighborIndices neighbors, std::size_t i);
 
 // Its velocity change dt a_i of particle i from the stresses of all
 // particles (surfaceStressVelocityChangeOf; dt = 1: a_i).

@@ -214,7 +214,8 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     if (c.surfaceStress > 0.0f) {
         surfaceStress_.resize(n);
         for (std::size_t i = 0; i < n; ++i)
-            surfaceStress_[i] = reference::surfaceStress(c, predicted_, grid_.neighbors(i), i);
+            surfaceStress_[i] =
+                reference::surfaceStress(c, solids, predicted_, grid_.neighbors(i), i);
         for (std::size_t i = 0; i < n; ++i)
             velocity_[i] += reference::surfaceStressVelocityChange(
                 c, dt, predicted_, surfaceStress_, grid_.neighbors(i), i);

@@ -202,7 +202,8 @@ TEST_P(SimdVsReference, SurfaceStressStagesMatchTheReference) {
     stages::packPositions(p.predicted, predicted.data(), 0, n);
     std::vector<Sym3> stress(n);
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeSurfaceStress(c, search, predicted.data(), stress.data(), b, e);
+        stages::computeSurfaceStress(c, cloud.solids.get(), search, predicted.data(), stress.data(),
+                                     b, e);
     });
     // v = 0 and a step of 1 s: the stage leaves a itself in v.
     Float3Array velocity;

@@ -12,6 +12,7 @@
 #include "backend/reference/equations.hpp"
 #include "backend/reference/error_bound.hpp"
 #include "backend/reference/neighbor_grid.hpp"
+#include "backend/reference/neighbor_sums.hpp"
 #include "backend/reference/particle_sums.hpp"
 #include "pbf/core/params.hpp"
 #include "pbf/core/solver_constants.hpp"
@@ -28,7 +29,7 @@ SimulationParams waterParams(float sigma) {
 }
 
 // Catches constants that do not follow item 9's calibration (sigma_css =
-// 4 sigma, floor 0.2 / d, the cohesion's pull at 0.2 of the derivation's
+// 4 sigma, floor 0.2 / d, the cohesion's pull at 0.4 of the derivation's
 // with its core kept) or a stress left on while surface tension is off.
 TEST(SurfaceStress, ConstantsFollowTheCalibration) {
     const SimulationParams p = waterParams(0.0728f);
@@ -36,10 +37,10 @@ TEST(SurfaceStress, ConstantsFollowTheCalibration) {
     EXPECT_EQ(c.surfaceStress, 4.0f * 0.0728f);
     EXPECT_FLOAT_EQ(c.surfaceStressFloor, 0.2f / p.particleSpacing());
     // The core's strength is cohesionScale x cohesionCoreScale: the pull at
-    // 0.2 of the derivation's, the core as the full cohesion's (coreScale /
-    // 0.2; the unscaled coreScale is what the constants hold with sigma 0).
+    // 0.4 of the derivation's, the core as the full cohesion's (coreScale /
+    // 0.4; the unscaled coreScale is what the constants hold with sigma 0).
     const SolverConstants off = SolverConstants::from(waterParams(0.0f));
-    EXPECT_FLOAT_EQ(c.cohesionCoreScale, off.cohesionCoreScale / 0.2f);
+    EXPECT_FLOAT_EQ(c.cohesionCoreScale, off.cohesionCoreScale / 0.4f);
     EXPECT_EQ(off.surfaceStress, 0.0f);
     EXPECT_EQ(off.surfaceStressFloor, 0.0f);
 }
@@ -90,7 +91,7 @@ StressField stressField(const SolverConstants& c, const Aabb& domain, const std:
     grid.build(x);
     StressField f;
     for (std::size_t i = 0; i < x.size(); ++i)
-        f.stress.push_back(reference::surfaceStress(c, x, grid.neighbors(i), i));
+        f.stress.push_back(reference::surfaceStress(c, nullptr, x, grid.neighbors(i), i));
     const double k = double(c.particleMass) / (double(c.restDensity) * c.restDensity);
     for (std::size_t i = 0; i < x.size(); ++i) {
         f.a.push_back(
@@ -204,6 +205,50 @@ TEST(SurfaceStress, RestLatticeFacesAreNotPulledEdgesAreAndTheBulkIsFree) {
     // sigma_css (|g| - floor) / (rho0 d^2) in size.
     const double scale = double(c.surfaceStress) / (double(c.restDensity) * d * d);
     EXPECT_GT(edgePull / edges, 0.01 * scale);
+}
+
+// The walls' share of g (equations.hpp, boundaryColourGradient and
+// surfaceStressNearBoundary) on a thick layer of the rest lattice lying on
+// the domain's floor, at the first layer: the particles alone give it the
+// outer layer's |g| d (0.478); the wall's share cancels that (the wall is
+// water for the free surface's colour), and what is left is the
+// liquid-solid interface's own tension, sigma_css (|g_b| - floor) in the
+// floor's plane, none across it. Catches a share of the wrong sign (|g|
+// doubles), without the volume V, from another kernel than g's, or a
+// missing liquid-solid term (T would be zero: a wetted layer, and a film,
+// would cost nothing). Out of the wall's reach the share is zero.
+TEST(SurfaceStress, AWallIsWaterForTheColourAndCarriesItsOwnInterface) {
+    SimulationParams p = waterParams(0.0728f);
+    p.domain = {{0.0f, 0.0f, 0.0f}, {0.02f, 0.02f, 0.02f}};
+    const SolverConstants c = SolverConstants::from(p);
+    const float d = p.particleSpacing();
+    const float r = p.particleRadius;
+    const Vec3 x{0.01f, r, 0.01f};
+    const int reach = int(std::ceil(c.h / d)) + 1;
+    Vec3 particles{};
+    for (int a = -reach; a <= reach; ++a)
+        for (int b = 0; b <= 2 * reach; ++b)
+            for (int k = -reach; k <= reach; ++k) {
+                const Vec3 rij = x - Vec3{x.x + float(a) * d, r + float(b) * d, x.z + float(k) * d};
+                if (length(rij) > 0.0f && length(rij) < c.h)
+                    particles += reference::colourGradientTerm(c, rij);
+            }
+    const Vec3 wall = reference::boundaryColourGradient(
+        c, reference::boundaryTerms(c, static_cast<const SolidSet*>(nullptr), x).gradient);
+    EXPECT_NEAR(length(particles) * d, 0.478f, 0.01f);
+    EXPECT_NEAR(length(particles + wall) * d, 0.0f, 1e-3f);
+    EXPECT_LT(wall.y, 0.0f);  // into the floor
+    const Sym3 t = reference::surfaceStressNearBoundary(c, particles, wall);
+    // Only the liquid-solid term is above the floor: T = T(g_b).
+    EXPECT_EQ(t, reference::surfaceStressOfGradient(c, wall));
+    const Vec3 across = t * Vec3{0.0f, 1.0f, 0.0f};
+    EXPECT_LE(length(across), 1e-6f * c.surfaceStress / d);
+    EXPECT_NEAR(t.xx, c.surfaceStress * (length(wall) - c.surfaceStressFloor), 1e-3f * t.xx);
+    EXPECT_GT(t.xx, 0.0f);
+    const Vec3 far{0.01f, 0.01f, 0.01f};
+    EXPECT_EQ(lengthSquared(
+                  reference::boundaryTerms(c, static_cast<const SolidSet*>(nullptr), far).gradient),
+              0.0f);
 }
 
 }  // namespace
