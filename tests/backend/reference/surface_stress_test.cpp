@@ -29,7 +29,7 @@ SimulationParams waterParams(float sigma) {
 }
 
 // Catches constants that do not follow item 9's calibration (sigma_css =
-// 4 sigma, floor 0.2 / d, the cohesion's pull at 0.4 of the derivation's
+// 4 sigma, floor 0.2 / d, the cohesion's pull at 0.45 of the derivation's
 // with its core kept) or a stress left on while surface tension is off.
 TEST(SurfaceStress, ConstantsFollowTheCalibration) {
     const SimulationParams p = waterParams(0.0728f);
@@ -37,10 +37,10 @@ TEST(SurfaceStress, ConstantsFollowTheCalibration) {
     EXPECT_EQ(c.surfaceStress, 4.0f * 0.0728f);
     EXPECT_FLOAT_EQ(c.surfaceStressFloor, 0.2f / p.particleSpacing());
     // The core's strength is cohesionScale x cohesionCoreScale: the pull at
-    // 0.4 of the derivation's, the core as the full cohesion's (coreScale /
-    // 0.4; the unscaled coreScale is what the constants hold with sigma 0).
+    // 0.45 of the derivation's, the core as the full cohesion's (coreScale /
+    // 0.45; the unscaled coreScale is what the constants hold with sigma 0).
     const SolverConstants off = SolverConstants::from(waterParams(0.0f));
-    EXPECT_FLOAT_EQ(c.cohesionCoreScale, off.cohesionCoreScale / 0.4f);
+    EXPECT_FLOAT_EQ(c.cohesionCoreScale, off.cohesionCoreScale / 0.45f);
     EXPECT_EQ(off.surfaceStress, 0.0f);
     EXPECT_EQ(off.surfaceStressFloor, 0.0f);
 }
