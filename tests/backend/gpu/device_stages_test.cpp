@@ -38,17 +38,28 @@ void PrintTo(const Case& testCase, std::ostream* out) {
 
 class DeviceVsReference : public ::testing::TestWithParam<Case> {};
 
+// The cloud's start-of-step positions x = x* - dt v (the stages' input).
+std::vector<Vec3> startPositions(const Cloud& cloud) {
+    std::vector<Vec3> x;
+    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
+        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
+    return x;
+}
+
+// Every device stage of one step on the cloud, surface tension on.
+gpu::StageOutputs runCloudStages(const Cloud& cloud, const std::vector<Vec3>& x) {
+    const SimulationParams surfaceTension = surfaceTensionParams(cloud);
+    return runDeviceStages(cloud.params, cloud.solids.get(), x, cloud.predicted, kStageDt,
+                           &surfaceTension);
+}
+
 TEST_P(DeviceVsReference, AgreeWithinTheDerivedBounds) {
     PBF_REQUIRE_DEVICE();
     const Case& param = GetParam();
     const Cloud cloud = param.make(param.count);
     const SolverConstants c = SolverConstants::from(cloud.params);
-    std::vector<Vec3> x;
-    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
-        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
-    const SimulationParams surfaceTension = surfaceTensionParams(cloud);
-    const gpu::StageOutputs out = runDeviceStages(cloud.params, cloud.solids.get(), x,
-                                                  cloud.predicted, kStageDt, &surfaceTension);
+    const std::vector<Vec3> x = startPositions(cloud);
+    const gpu::StageOutputs out = runCloudStages(cloud, x);
     ASSERT_EQ(out.input.size(), x.size());
     // Every particle once, with its own x and x* (the reorder kept them together).
     std::vector<int> seen(x.size(), 0);
@@ -86,9 +97,7 @@ TEST_P(DeviceVsReference, PhysicalViscosityStageMatchesTheReference) {
     const float nu = 1e-3f;
     cloud.params.fluid.kinematicViscosity = nu;
     const SolverConstants c = SolverConstants::from(cloud.params);
-    std::vector<Vec3> x;
-    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
-        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
+    const std::vector<Vec3> x = startPositions(cloud);
     const gpu::StageOutputs out =
         runDeviceStages(cloud.params, cloud.solids.get(), x, cloud.predicted, kStageDt);
     ASSERT_EQ(out.viscosityVelocity.size(), x.size());
@@ -106,12 +115,8 @@ TEST_P(DeviceVsReference, SurfaceStressKernelsMatchTheReference) {
     const Case& param = GetParam();
     const Cloud cloud = param.make(param.count);
     const SolverConstants cs = surfaceTensionConstants(cloud);
-    std::vector<Vec3> x;
-    for (std::size_t i = 0; i < cloud.predicted.size(); ++i)
-        x.push_back(cloud.predicted[i] - kStageDt * cloud.velocity[i]);
-    const SimulationParams surfaceTension = surfaceTensionParams(cloud);
-    const gpu::StageOutputs out = runDeviceStages(cloud.params, cloud.solids.get(), x,
-                                                  cloud.predicted, kStageDt, &surfaceTension);
+    const std::vector<Vec3> x = startPositions(cloud);
+    const gpu::StageOutputs out = runCloudStages(cloud, x);
     ASSERT_EQ(out.surfaceStressAcceleration.size(), x.size());
     EXPECT_LE(surfaceStressDeviation(cloud, cs, out.xStar, out.surfaceStressAcceleration), 1.0);
 }
