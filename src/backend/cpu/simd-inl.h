@@ -72,6 +72,19 @@ HWY_INLINE std::uint32_t listEntry(const std::uint16_t* list, std::size_t k) {
     }
 }
 
+// The list entries list[0 .. lanes) as 32-bit indices (see listEntry).
+template <bool Wide>
+HWY_INLINE IntVec listIndices(const std::uint16_t* list) {
+    const IntTag di;
+    if constexpr (Wide) {
+        return hn::LoadU(di, reinterpret_cast<const std::int32_t*>(list));
+    } else {
+        const hn::Rebind<std::uint16_t, IntTag> d16;
+        const hn::RebindToUnsigned<IntTag> du;
+        return hn::BitCast(di, hn::PromoteTo(du, hn::LoadU(d16, list)));
+    }
+}
+
 // Four floats per element (x, y, z, w of 16-byte aligned records) of the
 // list entries list[0 .. lanes), as four vectors. All lanes' entries must be
 // readable and valid (lists keep zeroed slack at their end; lanes past the
@@ -109,16 +122,7 @@ HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0x44)},
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0xEE)}};
 #else
-    const IntTag di;
-    IntVec index;
-    if constexpr (Wide) {
-        index = hn::LoadU(di, reinterpret_cast<const std::int32_t*>(list));
-    } else {
-        const hn::Rebind<std::uint16_t, IntTag> d16;
-        const hn::RebindToUnsigned<IntTag> du;
-        index = hn::BitCast(di, hn::PromoteTo(du, hn::LoadU(d16, list)));
-    }
-    const IntVec at = hn::ShiftLeft<2>(index);
+    const IntVec at = hn::ShiftLeft<2>(listIndices<Wide>(list));
     return {hn::GatherIndex(d, records, at), hn::GatherIndex(d, records + 1, at),
             hn::GatherIndex(d, records + 2, at), hn::GatherIndex(d, records + 3, at)};
 #endif
