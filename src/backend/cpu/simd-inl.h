@@ -96,14 +96,22 @@ struct Gathered4 {
     FloatVec x, y, z, w;
 };
 
-template <bool Wide>
+// `Stride`: floats from one element's record to the next (4 for the packed
+// points; 6 for the Sym3 stresses, whose first four floats it then reads,
+// 16-byte loads without alignment).
+template <bool Wide, std::size_t Stride = 4>
 HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
+    static_assert(Stride >= 4);
     const FloatTag d;
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
     static_assert(hn::MaxLanes(FloatTag{}) == 16);
     (void)d;
     auto record = [&](int lane) {
-        return _mm_load_ps(records + 4 * static_cast<std::size_t>(listEntry<Wide>(list, lane)));
+        const float* at = records + Stride * static_cast<std::size_t>(listEntry<Wide>(list, lane));
+        if constexpr (Stride % 4 == 0)
+            return _mm_load_ps(at);
+        else
+            return _mm_loadu_ps(at);
     };
     // q[m] holds the records of lanes m, 4 + m, 8 + m, 12 + m (one per 128-bit block).
     __m512 q[4];
@@ -122,7 +130,12 @@ HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0x44)},
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0xEE)}};
 #else
-    const IntVec at = hn::ShiftLeft<2>(listIndices<Wide>(list));
+    const IntVec index = listIndices<Wide>(list);
+    IntVec at;
+    if constexpr (Stride == 4)
+        at = hn::ShiftLeft<2>(index);
+    else
+        at = hn::Mul(index, hn::Set(IntTag{}, std::int32_t(Stride)));
     return {hn::GatherIndex(d, records, at), hn::GatherIndex(d, records + 1, at),
             hn::GatherIndex(d, records + 2, at), hn::GatherIndex(d, records + 3, at)};
 #endif

@@ -78,8 +78,11 @@ struct StressParticle {
     }
 };
 
-// T_j of the list entries list[0 .. lanes): six gathers from the Sym3
-// records (six floats each), offset by the block's base like the positions.
+// T_j of the list entries list[0 .. lanes) from the Sym3 records (six
+// floats each), offset by the block's base like the positions: the first
+// four floats of each as gather4 reads the packed points (on AVX-512 one
+// load per record and a transpose, not four gathers: the gathers were most
+// of this pass), the last two by gathers.
 struct GatheredStress {
     FloatVec xx, yy, zz, xy, xz, yz;
 };
@@ -90,10 +93,14 @@ HWY_INLINE GatheredStress gatherStress(const Sym3* records, const std::uint16_t*
     const IntTag di;
     static_assert(sizeof(Sym3) == 6 * sizeof(float));
     const float* base = &records[0].xx;
+    const Gathered4 first = gather4<Wide, 6>(base, list);
     const IntVec at = hn::Mul(listIndices<Wide>(list), hn::Set(di, 6));
-    return {hn::GatherIndex(d, base, at),     hn::GatherIndex(d, base + 1, at),
-            hn::GatherIndex(d, base + 2, at), hn::GatherIndex(d, base + 3, at),
-            hn::GatherIndex(d, base + 4, at), hn::GatherIndex(d, base + 5, at)};
+    return {first.x,
+            first.y,
+            first.z,
+            first.w,
+            hn::GatherIndex(d, base + 4, at),
+            hn::GatherIndex(d, base + 5, at)};
 }
 
 // sum_j (T_i + T_j) grad W_ij: surfaceStressPairTerm lane for lane (Sym3's
