@@ -6,8 +6,12 @@
 // pair force sum_j surfaceStressPairTerm, v += dt a
 // (reference::surfaceStressVelocityChange). The pair terms are the
 // reference's, lane for lane (spikyGradientFactor in pair_loops-inl.h: the
-// exact 1/r, not the estimate); only the order of the sums differs.
-// docs/performance.md ("With the continuum surface stress") gives the cost.
+// exact 1/r, not the estimate, so that the stage test's bound, which counts
+// the sums' order, holds as derived); only the order of the sums differs,
+// and it depends on the neighbour count and the target alone, not on the
+// thread. docs/performance.md ("The SIMD passes of the stress") gives the
+// cost (a substep with surface tension: 1.15-1.27 times one without, 1.7
+// times with the scalar passes these replaced).
 // Compiled once per instruction set target like neighbor_passes.cpp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "backend/cpu/surface_stress_pass.cpp"
