@@ -83,28 +83,33 @@ struct StressParticle {
 };
 
 // T_j of the list entries list[0 .. lanes) from the Sym3 records (six
-// floats each), offset by the block's base like the positions: the first
-// four floats of each as gather4 reads the packed points (on AVX-512 one
-// load per record and a transpose, not four gathers: the gathers were most
-// of this pass), the last two by gathers.
+// floats each), offset by the block's base like the positions, read as
+// gather4 reads the packed points: on AVX-512 floats 0-3 and 2-5 of each
+// record by one 16-byte load each and a transpose, no gathers (six gathers
+// were most of this pass: perf, docs/performance.md); elsewhere floats
+// 0-3 by gather4's gathers and the last two by two more.
 struct GatheredStress {
     FloatVec xx, yy, zz, xy, xz, yz;
 };
 
 template <bool Wide>
 HWY_INLINE GatheredStress gatherStress(const Sym3* records, const std::uint16_t* list) {
-    const FloatTag d;
-    const IntTag di;
     static_assert(sizeof(Sym3) == 6 * sizeof(float));
     const float* base = &records[0].xx;
     const Gathered4 first = gather4<Wide, 6>(base, list);
-    const IntVec at = hn::Mul(listIndices<Wide>(list), hn::Set(di, 6));
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    const Gathered4 last = gather4<Wide, 6>(base + 2, list);  // zz, xy, xz, yz
+    return {first.x, first.y, first.z, first.w, last.z, last.w};
+#else
+    const FloatTag d;
+    const IntVec at = hn::Mul(listIndices<Wide>(list), hn::Set(IntTag{}, 6));
     return {first.x,
             first.y,
             first.z,
             first.w,
             hn::GatherIndex(d, base + 4, at),
             hn::GatherIndex(d, base + 5, at)};
+#endif
 }
 
 // sum_j (T_i + T_j) grad W_ij: surfaceStressPairTerm lane for lane (Sym3's
