@@ -72,6 +72,19 @@ HWY_INLINE std::uint32_t listEntry(const std::uint16_t* list, std::size_t k) {
     }
 }
 
+// The list entries list[0 .. lanes) as 32-bit indices (see listEntry).
+template <bool Wide>
+HWY_INLINE IntVec listIndices(const std::uint16_t* list) {
+    const IntTag di;
+    if constexpr (Wide) {
+        return hn::LoadU(di, reinterpret_cast<const std::int32_t*>(list));
+    } else {
+        const hn::Rebind<std::uint16_t, IntTag> d16;
+        const hn::RebindToUnsigned<IntTag> du;
+        return hn::BitCast(di, hn::PromoteTo(du, hn::LoadU(d16, list)));
+    }
+}
+
 // Four floats per element (x, y, z, w of 16-byte aligned records) of the
 // list entries list[0 .. lanes), as four vectors. All lanes' entries must be
 // readable and valid (lists keep zeroed slack at their end; lanes past the
@@ -83,14 +96,22 @@ struct Gathered4 {
     FloatVec x, y, z, w;
 };
 
-template <bool Wide>
+// `Stride`: floats from one element's record to the next (4 for the packed
+// points; 6 for the Sym3 stresses, whose first four floats it then reads,
+// 16-byte loads without alignment).
+template <bool Wide, std::size_t Stride = 4>
 HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
+    static_assert(Stride >= 4);
     const FloatTag d;
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
     static_assert(hn::MaxLanes(FloatTag{}) == 16);
     (void)d;
     auto record = [&](int lane) {
-        return _mm_load_ps(records + 4 * static_cast<std::size_t>(listEntry<Wide>(list, lane)));
+        const float* at = records + Stride * static_cast<std::size_t>(listEntry<Wide>(list, lane));
+        if constexpr (Stride % 4 == 0)
+            return _mm_load_ps(at);
+        else
+            return _mm_loadu_ps(at);
     };
     // q[m] holds the records of lanes m, 4 + m, 8 + m, 12 + m (one per 128-bit block).
     __m512 q[4];
@@ -109,16 +130,12 @@ HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0x44)},
             FloatVec{_mm512_shuffle_ps(zw01, zw23, 0xEE)}};
 #else
-    const IntTag di;
-    IntVec index;
-    if constexpr (Wide) {
-        index = hn::LoadU(di, reinterpret_cast<const std::int32_t*>(list));
-    } else {
-        const hn::Rebind<std::uint16_t, IntTag> d16;
-        const hn::RebindToUnsigned<IntTag> du;
-        index = hn::BitCast(di, hn::PromoteTo(du, hn::LoadU(d16, list)));
-    }
-    const IntVec at = hn::ShiftLeft<2>(index);
+    const IntVec index = listIndices<Wide>(list);
+    IntVec at;
+    if constexpr (Stride == 4)
+        at = hn::ShiftLeft<2>(index);
+    else
+        at = hn::Mul(index, hn::Set(IntTag{}, std::int32_t(Stride)));
     return {hn::GatherIndex(d, records, at), hn::GatherIndex(d, records + 1, at),
             hn::GatherIndex(d, records + 2, at), hn::GatherIndex(d, records + 3, at)};
 #endif

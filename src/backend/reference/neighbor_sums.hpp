@@ -203,14 +203,22 @@ PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, flo
 // stress"): T_i from g_i = grad c at the positions x (the end-of-step x*),
 // the walls' and solids' share included (`solids` may be null). Every
 // particle's T is computed before any acceleration (a pre-pass).
+// T_i at x_i from g, the sum of its neighbours' colourGradientTerm: the
+// walls' and solids' share added here (the CPU's SIMD pass sums g itself).
+template <class Solids>
+PBF_HD Sym3 surfaceStressFromNeighborGradient(const SolverConstants& c, const Solids* solids,
+                                              const Vec3& xi, const Vec3& g) {
+    return surfaceStressNearBoundary(
+        c, g, boundaryColourGradient(c, boundaryTerms(c, solids, xi).gradient));
+}
+
 template <class Solids, class Neighbors, class Positions>
 PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Solids* solids,
                             const Neighbors& neighbors, const Positions& x, std::uint32_t i) {
     const Vec3 xi = x(i);
     Vec3 g{};
     neighbors([&](std::uint32_t j) { g += colourGradientTerm(c, xi - x(j)); });
-    return surfaceStressNearBoundary(
-        c, g, boundaryColourGradient(c, boundaryTerms(c, solids, xi).gradient));
+    return surfaceStressFromNeighborGradient(c, solids, xi, g);
 }
 
 // Its velocity change dt a_i, a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij,

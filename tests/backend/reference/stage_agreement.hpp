@@ -167,7 +167,11 @@ double physicalViscosityDeviation(const Cloud& cloud, const SolverConstants& c, 
 // an implementation's two stages (T_i for every particle, then the pair
 // force) at x* (its particle order) gave the accelerations `a`. Both sums
 // call the same terms (colourGradientTerm, surfaceStressOfGradient,
-// surfaceStressPairTerm) on the same floats, in another neighbour order, so
+// surfaceStressPairTerm) on the same floats, in another neighbour order (the
+// CPU's SIMD pass computes the pair terms lane for lane with the same
+// operations, its 1/r exact: SimdPairTerms checks its spiky gradient bit
+// for bit against the scalar kernel; r^2 may round otherwise where products
+// are fused, as on the GPU, within the 12 roundings counted per term), so
 // per particle (Higham's gamma_k = k u / (1 - k u), u = 2^-24):
 //   g:  |g - g_ref| <= E_g = 2 (gamma_n + gamma_12) sum_j |t_ij|_1, t_ij the
 //       terms (the order's gamma_{n-1} twice, up to 12 roundings per term
