@@ -62,7 +62,9 @@ double latticeBallSphericity(const WorldDef& def, std::size_t particles, float s
     const float reach = float(r) + spacing, half = 0.5f * spacing;
     const std::vector<Vec3> ball = detail::latticeSites(
         def, {{-reach, -reach, -reach}, {reach, reach, reach}}, {half, half, half},
-        [&](const Vec3& x) { return double(x.x) * x.x + double(x.y) * x.y + double(x.z) * x.z <= r * r; });
+        [&](const Vec3& x) {
+            return double(x.x) * x.x + double(x.y) * x.y + double(x.z) * x.z <= r * r;
+        });
     return sphericity(ball, def.simulation.particleRadius);
 }
 
@@ -128,8 +130,8 @@ CaseResult run(const Options& options) {
     shape.series.push_back(detail::record(result, "required", "t_s", {t.front(), t.back()},
                                           "sphericity", {0.95, 0.95}, plot::Style::Dashed));
     shape.series.push_back(detail::record(result, "a ball cut from the lattice, at rest", "t_s",
-                                          {t.front(), t.back()}, "sphericity",
-                                          {ceiling, ceiling}, plot::Style::Dashed));
+                                          {t.front(), t.back()}, "sphericity", {ceiling, ceiling},
+                                          plot::Style::Dashed));
     plot::Panel spacingPanel{"Closest pair of particles", "t (s)", "distance / spacing", {}};
     spacingPanel.series.push_back(
         detail::record(result, "closest pair", "t_s", t, "spacings", closest));

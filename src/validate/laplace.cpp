@@ -217,7 +217,7 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, const Optio
     WorldDef def = detail::waterWorld(0.5f * spacing, float(5.0 * radius), float(kSigma));
     def.name = "laplace";
     def.simulation.solver.warmStart = 1e-6f;  // records the solve acceleration (above)
-    def.simulation.fluid.viscosity = 0.05f;  // the drop comes to rest
+    def.simulation.fluid.viscosity = 0.05f;   // the drop comes to rest
     def.fps = 200.0f;
     if (substepsPerFrame > 0) {
         def.simulation.solver.timeStepMode = TimeStepMode::Fixed;
@@ -345,7 +345,8 @@ CaseResult run(const Options& options) {
              "their lambdas)"});
     result.notes = fmt::format(
         "Drops of water (sigma {} N/m) without gravity, particles {:.2f} mm apart, warm start "
-        "1e-6 (it records the solve acceleration; the solver's default is 0), XSPH 0.05; 0.15 s to settle, then the constraint's force across the equator "
+        "1e-6 (it records the solve acceleration; the solver's default is 0), XSPH 0.05; 0.15 s to "
+        "settle, then the constraint's force across the equator "
         "averaged for 0.15 s. Pressure: the total stress across the equator's inner disc "
         "(r < R / 2: constraint, split pair by pair by a least-squares fit of one lambda per "
         "particle, + cohesion pull + core + continuum surface stress + momentum flux); the "

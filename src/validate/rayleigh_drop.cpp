@@ -16,7 +16,7 @@
 // the standard deviations over the samplings). So each resolution runs
 // kSamplings drops (kQuickSamplings quick), the lattice shifted by a low-discrepancy sequence of
 // fractions of a spacing, and the checks compare the means, with their
-// standard errors: a single sampling's error at 8 across ranged +4 to +22 %,
+// standard errors (fallCheck): a single sampling's error at 8 across ranged +4 to +22 %,
 // which decided the order of the errors by chance.
 // The model's constants (sigma_css, the cohesion's pull) were chosen with
 // this case at the finest resolution (docs/surface_tension.md, items 9-10);
@@ -148,12 +148,13 @@ Run runDrop(double particlesAcross, const Vec3& shift) {
                  across = kRadius / std::sqrt(1.0 + kAmplitude);
     const float reach = float(along + spacing);
     const float half = 0.5f * spacing;
-    const std::vector<Vec3> sites =
-        detail::latticeSites(def, {{-reach, -reach, -reach}, {reach, reach, reach}},
-                             {half + shift.x * spacing, half + shift.y * spacing, half + shift.z * spacing}, [&](const Vec3& x) {
-                                 const double u = x.x / across, v = x.y / along, w = x.z / across;
-                                 return u * u + v * v + w * w <= 1.0;
-                             });
+    const std::vector<Vec3> sites = detail::latticeSites(
+        def, {{-reach, -reach, -reach}, {reach, reach, reach}},
+        {half + shift.x * spacing, half + shift.y * spacing, half + shift.z * spacing},
+        [&](const Vec3& x) {
+            const double u = x.x / across, v = x.y / along, w = x.z / across;
+            return u * u + v * v + w * w <= 1.0;
+        });
     World world = detail::worldOf(def, sites);
     Run run;
     run.particlesAcross = particlesAcross;
@@ -218,20 +219,25 @@ Resolution runResolution(double particlesAcross, int samplings, const Options& o
     return r;
 }
 
-// The check that |mean error| falls from `coarse` to `fine`; the
-// difference's standard error is reported with it.
-Check fallCheck(const Resolution& coarse, const Resolution& fine) {
+// The check that |mean error| falls from `coarse` to `fine`. Where the two
+// means are both near the model's own bias (the finest two: +2.5 and +1.9 %
+// with standard errors of 1.0 and 0.4 %), their order is noise, and the
+// check asks only that the error does not grow by more than the
+// difference's standard error (`withinScatter`); a strict check there
+// would pass or fail by chance with any change of the runs' bits.
+Check fallCheck(const Resolution& coarse, const Resolution& fine, bool withinScatter) {
     const double scatter = std::hypot(coarse.standardError(), fine.standardError());
     return {fmt::format("|mean error| at {:.0f} minus at {:.0f} particles across", fine.across(),
                         coarse.across()),
             std::fabs(fine.meanError) - std::fabs(coarse.meanError),
             0.0,
-            0.0,
+            withinScatter ? scatter : 0.0,
             "",
-            "the error shrinks with resolution",
-            fmt::format("issue 27: over three resolutions; the means of {} samplings each, the "
-                        "difference's standard error {:.4f}",
-                        coarse.runs.size(), scatter),
+            withinScatter ? "the error does not grow with resolution"
+                          : "the error shrinks with resolution",
+            fmt::format("issue 27: over three resolutions; the means of {} samplings each{}",
+                        coarse.runs.size(),
+                        withinScatter ? ", within the difference's standard error" : ""),
             Check::Bound::AtMost};
 }
 
@@ -246,10 +252,12 @@ CaseResult run(const Options& options) {
     for (const double across : resolutions)
         levels.push_back(runResolution(across, samplings, options));
 
-    plot::Panel signal{"Quadrupole moment of the drop (lattice centred on it)", "t (s)",
-                       "<y^2 - (x^2 + z^2)/2> / R^2", {}};
-    plot::Panel convergence{"Frequency error", "particles across the drop",
-                            "omega_0 / omega_Rayleigh - 1 (%)", {}};
+    plot::Panel signal{"Quadrupole moment of the drop (lattice centred on it)",
+                       "t (s)",
+                       "<y^2 - (x^2 + z^2)/2> / R^2",
+                       {}};
+    plot::Panel convergence{
+        "Frequency error", "particles across the drop", "omega_0 / omega_Rayleigh - 1 (%)", {}};
     std::vector<double> across, meanError, sampleAcross, sampleError;
     Convergence study{"|mean omega_0 / omega_Rayleigh - 1| over the lattice samplings",
                       "particle spacing (mm)",
@@ -257,9 +265,9 @@ CaseResult run(const Options& options) {
                       {}};
     for (const Resolution& level : levels) {
         const Run& centred = level.runs.front();
-        signal.series.push_back(detail::record(
-            result, fmt::format("{:.0f} particles across", level.across()), "t_s", centred.t,
-            "quadrupole", centred.q));
+        signal.series.push_back(
+            detail::record(result, fmt::format("{:.0f} particles across", level.across()), "t_s",
+                           centred.t, "quadrupole", centred.q));
         across.push_back(level.across());
         meanError.push_back(100.0 * level.meanError);
         for (const Run& run : level.runs) {
@@ -272,8 +280,8 @@ CaseResult run(const Options& options) {
     convergence.series.push_back(detail::record(result, "each sampling", "particles_across",
                                                 sampleAcross, "percent", sampleError,
                                                 plot::Style::Points));
-    convergence.series.push_back(detail::record(result, "mean", "particles_across", across,
-                                                "percent", meanError));
+    convergence.series.push_back(
+        detail::record(result, "mean", "particles_across", across, "percent", meanError));
     result.figure = {result.title, {signal, convergence}, 2};
     result.convergence.push_back(study);
 
@@ -285,8 +293,8 @@ CaseResult run(const Options& options) {
          meanOf(ratios), 1.0, 0.1, "", "Rayleigh 1879: omega^2 = 8 sigma / (rho R^3)",
          fmt::format("10 % at the finest resolution (issue 27), the mean of {} samplings",
                      samplings)});
-    for (std::size_t k = 1; k < levels.size(); ++k)
-        result.checks.push_back(fallCheck(levels[k - 1], levels[k]));
+    result.checks.push_back(fallCheck(levels[0], levels[1], false));
+    result.checks.push_back(fallCheck(levels[1], levels[2], true));
     std::string perLevel;
     for (const Resolution& level : levels) {
         const Run& centred = level.runs.front();
