@@ -309,11 +309,7 @@ CaseResult run(const Options& options) {
             study.push_back(restingDrop(r, spacing, 0, 0.15, options));
 
     plot::Panel panel{
-        "The constraint's force across the equator per area (its share; the case "
-        "checks the total across the inner disc)",
-        "t (s)",
-        "Pa",
-        {}};
+        "Constraint's share: its force across the equator per area", "t (s)", "Pa", {}};
     for (const Drop* d : {&small, &large, &quiet}) {
         const std::string label =
             fmt::format("R = {:.2f} mm, substep {:.0f} us", 1e3 * d->radius, 1e6 * d->dt);
@@ -324,8 +320,8 @@ CaseResult run(const Options& options) {
             detail::record(result, fmt::format("R = {:.2f} mm: 2 sigma / R", 1e3 * d->radius),
                            "t_s", {d->t.front(), d->t.back()}, "Pa",
                            {2 * kSigma / d->radius, 2 * kSigma / d->radius}, plot::Style::Dashed));
-    plot::Panel law{"Static tension p R / 2 sigma against the drop's radius in spacings", "R / d",
-                    "p R / (2 sigma)", {}};
+    plot::Panel law{
+        "Static tension p R / 2 sigma against R / spacing", "R / d", "p R / (2 sigma)", {}};
     std::vector<double> across, tension;
     std::vector<const Drop*> drops{&small, &large};
     for (const Drop& d : study) drops.push_back(&d);
@@ -336,13 +332,11 @@ CaseResult run(const Options& options) {
         tension.push_back(d->pressure * d->radius / (2.0 * kSigma));
     }
     law.series.push_back(detail::record(result, "p R / 2 sigma", "R_over_d", across,
-                                        "static_tension_over_sigma", tension,
-                                        plot::Style::Points));
-    law.series.push_back(detail::record(result, "Laplace", "R_over_d",
-                                        {across.front(), across.back()},
-                                        "static_tension_over_sigma", {1.0, 1.0},
-                                        plot::Style::Dashed));
-    result.figure = {result.title, {panel, law}, 1};
+                                        "static_tension_over_sigma", tension, plot::Style::Points));
+    law.series.push_back(
+        detail::record(result, "Laplace", "R_over_d", {across.front(), across.back()},
+                       "static_tension_over_sigma", {1.0, 1.0}, plot::Style::Dashed));
+    result.figure = {"Laplace: resting drops", {panel, law}, 1};
     for (const Drop* d : {&small, &large})
         result.checks.push_back(
             {fmt::format("pressure in the {:.1f} mm drop", 1e3 * d->radius), d->pressure,
@@ -393,8 +387,9 @@ CaseResult run(const Options& options) {
         small.mean.surface, quiet.pressure, small.pressure, quiet.constraintShare,
         small.constraintShare, 2.0 * kSigma / small.radius);
     if (!study.empty()) {
-        result.notes += " Static tension p R / 2 sigma (the 1 / R law, not checked; the study's drops "
-                        "averaged 0.15 s):";
+        result.notes +=
+            " Static tension p R / 2 sigma (the 1 / R law, not checked; the study's drops "
+            "averaged 0.15 s):";
         for (std::size_t k = 0; k < across.size(); ++k)
             result.notes += fmt::format(" {:.3f} at R / d = {:.1f}{}", tension[k], across[k],
                                         k + 1 < across.size() ? "," : ".");
