@@ -35,6 +35,14 @@ std::vector<Vec3> latticeSites(const WorldDef& def, const Aabb& bounds, const Ve
     return sites;
 }
 
+Vec3 latticeShift(int k) {
+    constexpr double g = 1.2207440846057595;  // g^4 = g + 1 (Roberts' phi for 3 dimensions)
+    const auto fraction = [&](int power) {
+        return float(std::fmod(double(k) / std::pow(g, power), 1.0));
+    };
+    return {fraction(1), fraction(2), fraction(3)};
+}
+
 World worldOf(WorldDef def, const std::vector<Vec3>& sites) {
     const float r = def.simulation.particleRadius;
     const Vec3 corner{r, r, r};

@@ -19,6 +19,13 @@ WorldDef waterWorld(float radius, float domainSide, float surfaceTension = 0.072
 std::vector<Vec3> latticeSites(const WorldDef& def, const Aabb& bounds, const Vec3& origin,
                                const std::function<bool(const Vec3&)>& inside);
 
+// The k-th shift of the lattice, in spacings (each component in [0, 1)):
+// the additive recurrence on the powers of g, g^4 = g + 1 (Roberts' R3
+// sequence), which covers the cell evenly for any count; k = 0 is no
+// shift. A drop cut from the lattice is one sampling of its shape by the
+// lattice; the shifts give others (rayleigh_drop, laplace).
+Vec3 latticeShift(int k);
+
 // A World holding exactly these particles at rest: a fluid block of one
 // lattice site at sites[0] (a world needs one), the rest added.
 World worldOf(WorldDef def, const std::vector<Vec3>& sites);

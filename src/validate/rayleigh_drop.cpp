@@ -44,17 +44,6 @@ constexpr double kAmplitude = 0.15;  // semi-axes R (1 + e) along y, R / sqrt(1 
 constexpr int kSamplings = 24;
 constexpr int kQuickSamplings = 12;
 
-// The k-th lattice shift, in spacings: the additive recurrence on the
-// plastic number's powers (Roberts' R3 sequence), which covers the cell
-// evenly for any count; k = 0 is the lattice centred on the drop.
-Vec3 latticeShift(int k) {
-    constexpr double g = 1.2207440846057595;  // the plastic number: g^4 = g + 1
-    const auto fraction = [&](int power) {
-        return float(std::fmod(double(k) / std::pow(g, power), 1.0));
-    };
-    return {fraction(1), fraction(2), fraction(3)};
-}
-
 // A damped cosine A e^{-beta t} cos(omega t + phi) + C fitted to (t, q) by
 // least squares: for each (omega, beta) on a grid the linear parameters are
 // solved exactly (variable projection); the grid is refined around the best.
@@ -199,7 +188,8 @@ struct Resolution {
 
 Resolution runResolution(double particlesAcross, int samplings, const Options& options) {
     Resolution r;
-    for (int k = 0; k < samplings; ++k) r.runs.push_back(runDrop(particlesAcross, latticeShift(k)));
+    for (int k = 0; k < samplings; ++k)
+        r.runs.push_back(runDrop(particlesAcross, detail::latticeShift(k)));
     std::vector<double> errors;
     for (const Run& run : r.runs) errors.push_back(run.error());
     r.meanError = meanOf(errors);

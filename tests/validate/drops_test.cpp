@@ -50,5 +50,28 @@ TEST(DropMeasures, NearestNeighborDistances) {
     EXPECT_EQ(nearestNeighborDistances({{0.0f, 0.0f, 0.0f}}, 1.0f).front(), 1.0);
 }
 
+// The lattice shifts sample the whole cell (Roberts' R3 sequence): 64
+// shifts put 4-12 into each of the cell's eight octants (a uniform random
+// draw: 8 +- 2.6), and none outside [0, 1). Catches a wrong constant or
+// power (shifts along a line or in a plane leave octants empty), and k = 0
+// must be no shift (the cases' first sampling is the lattice as it was
+// before samplings).
+TEST(DropMeasures, LatticeShiftsCoverTheCellEvenly) {
+    EXPECT_EQ(lengthSquared(latticeShift(0)), 0.0f);
+    int octants[8] = {};
+    for (int k = 0; k < 64; ++k) {
+        const Vec3 s = latticeShift(k);
+        for (const float c : {s.x, s.y, s.z}) {
+            EXPECT_GE(c, 0.0f);
+            EXPECT_LT(c, 1.0f);
+        }
+        ++octants[(s.x >= 0.5f) + 2 * (s.y >= 0.5f) + 4 * (s.z >= 0.5f)];
+    }
+    for (const int n : octants) {
+        EXPECT_GE(n, 3);
+        EXPECT_LE(n, 13);
+    }
+}
+
 }  // namespace
 }  // namespace pbf::validation::detail
