@@ -300,21 +300,21 @@ Drop sampledDrop(double radius, float spacing, double average, int samplings,
     std::vector<Drop> drops;
     for (int k = 0; k < samplings; ++k)
         drops.push_back(restingDrop(radius, spacing, 0, average, options, detail::latticeShift(k)));
+    const auto meanOf = [&](double Drop::*field) {
+        std::vector<double> values;
+        for (const Drop& d : drops) values.push_back(d.*field);
+        return detail::sampleMean(values);
+    };
     Drop drop = drops.front();
     drop.samplings = samplings;
-    drop.radius = drop.pressure = drop.constraintShare = 0.0;
+    drop.radius = meanOf(&Drop::radius).mean;
+    drop.constraintShare = meanOf(&Drop::constraintShare).mean;
+    const detail::SampleMean pressure = meanOf(&Drop::pressure);
+    drop.pressure = pressure.mean;
+    drop.pressureError = pressure.standardError();
     drop.mean = {};
-    for (const Drop& d : drops) {
-        drop.radius += d.radius / samplings;
-        drop.pressure += d.pressure / samplings;
-        drop.constraintShare += d.constraintShare / samplings;
-        drop.mean += d.mean;
-    }
+    for (const Drop& d : drops) drop.mean += d.mean;
     drop.mean /= samplings;
-    double spread = 0.0;
-    for (const Drop& d : drops)
-        spread += (d.pressure - drop.pressure) * (d.pressure - drop.pressure);
-    drop.pressureError = samplings > 1 ? std::sqrt(spread / (samplings - 1) / samplings) : 0.0;
     if (options.progress)
         options.progress(fmt::format(
             "laplace: drop of {:.2f} mm, {} samplings of the lattice: pressure {:.1f} Pa (standard "

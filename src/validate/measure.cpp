@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <stdexcept>
 #include <utility>
 
@@ -34,6 +35,22 @@ double rms(const std::vector<double>& values) {
     double sum = 0.0;
     for (double v : values) sum += v * v;
     return std::sqrt(sum / double(values.size()));
+}
+
+SampleMean sampleMean(const std::vector<double>& values) {
+    SampleMean m;
+    m.count = values.size();
+    if (values.empty()) return m;
+    m.mean = std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
+    if (values.size() < 2) return m;
+    double squares = 0.0;
+    for (const double v : values) squares += (v - m.mean) * (v - m.mean);
+    m.standardDeviation = std::sqrt(squares / double(values.size() - 1));
+    return m;
+}
+
+double SampleMean::standardError() const {
+    return count > 0 ? standardDeviation / std::sqrt(double(count)) : 0.0;
 }
 
 Line fitLine(const std::vector<double>& x, const std::vector<double>& y) {

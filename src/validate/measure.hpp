@@ -3,6 +3,7 @@
 // floating body lies (also used by tests/world/bodies_test.cpp).
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,16 @@ double interpolate(const std::vector<double>& xs, const std::vector<double>& ys,
 
 // Root mean square of the values.
 double rms(const std::vector<double>& values);
+
+// The mean of samples, their standard deviation (with n - 1; 0 for one
+// sample) and the mean's standard error.
+struct SampleMean {
+    double mean = 0.0;
+    double standardDeviation = 0.0;
+    std::size_t count = 0;
+    double standardError() const;
+};
+SampleMean sampleMean(const std::vector<double>& values);
 
 // Least-squares line y = intercept + slope x.
 struct Line {

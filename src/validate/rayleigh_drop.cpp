@@ -107,10 +107,6 @@ DampedFit fitDampedCosine(const std::vector<double>& t, const std::vector<double
     return best;
 }
 
-double meanOf(const std::vector<double>& values) {
-    return std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
-}
-
 struct Run {
     double particlesAcross = 0.0;  // 2 R / spacing
     std::size_t particles = 0;
@@ -192,10 +188,9 @@ Resolution runResolution(double particlesAcross, int samplings, const Options& o
         r.runs.push_back(runDrop(particlesAcross, detail::latticeShift(k)));
     std::vector<double> errors;
     for (const Run& run : r.runs) errors.push_back(run.error());
-    r.meanError = meanOf(errors);
-    double squares = 0.0;
-    for (const double e : errors) squares += (e - r.meanError) * (e - r.meanError);
-    r.standardDeviation = std::sqrt(squares / double(errors.size() - 1));
+    const detail::SampleMean stats = detail::sampleMean(errors);
+    r.meanError = stats.mean;
+    r.standardDeviation = stats.standardDeviation;
     if (options.progress) {
         const auto [lo, hi] = std::minmax_element(errors.begin(), errors.end());
         options.progress(fmt::format(
@@ -280,7 +275,8 @@ CaseResult run(const Options& options) {
     for (const Run& run : finest.runs) ratios.push_back(run.omega() / run.omegaTheory);
     result.checks.push_back(
         {fmt::format("mean omega_0 / omega_Rayleigh at {:.0f} particles across", finest.across()),
-         meanOf(ratios), 1.0, 0.1, "", "Rayleigh 1879: omega^2 = 8 sigma / (rho R^3)",
+         detail::sampleMean(ratios).mean, 1.0, 0.1, "",
+         "Rayleigh 1879: omega^2 = 8 sigma / (rho R^3)",
          fmt::format("10 % at the finest resolution (issue 27), the mean of {} samplings",
                      samplings)});
     result.checks.push_back(fallCheck(levels[0], levels[1], false));
