@@ -176,9 +176,7 @@ Run runDrop(double particlesAcross, const Vec3& shift) {
 // error.
 struct Resolution {
     std::vector<Run> runs;
-    double meanError = 0.0;
-    double standardDeviation = 0.0;
-    double standardError() const { return standardDeviation / std::sqrt(double(runs.size())); }
+    detail::SampleMean error;  // of the runs' omega_0 / omega_Rayleigh - 1
     double across() const { return runs.front().particlesAcross; }
 };
 
@@ -188,9 +186,7 @@ Resolution runResolution(double particlesAcross, int samplings, const Options& o
         r.runs.push_back(runDrop(particlesAcross, detail::latticeShift(k)));
     std::vector<double> errors;
     for (const Run& run : r.runs) errors.push_back(run.error());
-    const detail::SampleMean stats = detail::sampleMean(errors);
-    r.meanError = stats.mean;
-    r.standardDeviation = stats.standardDeviation;
+    r.error = detail::sampleMean(errors);
     if (options.progress) {
         const auto [lo, hi] = std::minmax_element(errors.begin(), errors.end());
         options.progress(fmt::format(
@@ -198,8 +194,8 @@ Resolution runResolution(double particlesAcross, int samplings, const Options& o
             "error {:+.2f} % (standard error {:.2f} %, standard deviation {:.2f} %, from {:+.1f} "
             "to {:+.1f} %)",
             particlesAcross, r.runs.front().particles, r.runs.back().particles, samplings,
-            100.0 * r.meanError, 100.0 * r.standardError(), 100.0 * r.standardDeviation,
-            100.0 * *lo, 100.0 * *hi));
+            100.0 * r.error.mean, 100.0 * r.error.standardError(),
+            100.0 * r.error.standardDeviation, 100.0 * *lo, 100.0 * *hi));
     }
     return r;
 }
@@ -211,10 +207,10 @@ Resolution runResolution(double particlesAcross, int samplings, const Options& o
 // difference's standard error (`withinScatter`); a strict check there
 // would pass or fail by chance with any change of the runs' bits.
 Check fallCheck(const Resolution& coarse, const Resolution& fine, bool withinScatter) {
-    const double scatter = std::hypot(coarse.standardError(), fine.standardError());
+    const double scatter = std::hypot(coarse.error.standardError(), fine.error.standardError());
     return {fmt::format("|mean error| at {:.0f} minus at {:.0f} particles across", fine.across(),
                         coarse.across()),
-            std::fabs(fine.meanError) - std::fabs(coarse.meanError),
+            std::fabs(fine.error.mean) - std::fabs(coarse.error.mean),
             0.0,
             withinScatter ? scatter : 0.0,
             "",
@@ -254,13 +250,13 @@ CaseResult run(const Options& options) {
             detail::record(result, fmt::format("{:.0f} particles across", level.across()), "t_s",
                            centred.t, "quadrupole", centred.q));
         across.push_back(level.across());
-        meanError.push_back(100.0 * level.meanError);
+        meanError.push_back(100.0 * level.error.mean);
         for (const Run& run : level.runs) {
             sampleAcross.push_back(level.across());
             sampleError.push_back(100.0 * run.error());
         }
         study.h.push_back(2e3 * kRadius / level.across());
-        study.error.push_back(std::fabs(level.meanError));
+        study.error.push_back(std::fabs(level.error.mean));
     }
     convergence.series.push_back(detail::record(result, "each sampling", "particles_across",
                                                 sampleAcross, "percent", sampleError,
@@ -288,7 +284,7 @@ CaseResult run(const Options& options) {
             "{:.0f} across: mean error {:+.2f} % (standard error {:.2f} %); the centred lattice "
             "({} particles) omega_0 {:.1f} rad/s against {:.1f}, omega_d {:.1f} rad/s, damping "
             "{:.1f} 1/s. ",
-            level.across(), 100.0 * level.meanError, 100.0 * level.standardError(),
+            level.across(), 100.0 * level.error.mean, 100.0 * level.error.standardError(),
             centred.particles, centred.omega(), centred.omegaTheory, centred.fit.omega,
             centred.fit.beta);
     }
