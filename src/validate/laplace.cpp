@@ -49,6 +49,7 @@
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_grid.hpp"
 #include "backend/reference/particle_sums.hpp"
+#include "validate/concurrent.hpp"
 #include "validate/constraint_pairs.hpp"
 #include "validate/drops.hpp"
 #include "validate/measure.hpp"
@@ -293,17 +294,14 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, double aver
     return drop;
 }
 
-// The drop cut from the lattice at `samplings` shifts (detail::latticeShift;
-// k = 0 is restingDrop's own), averaged: where the lattice lies moves a
+// The mean of the drop cut from the lattice at several shifts
+// (detail::latticeShift; the first is restingDrop's own): where the lattice lies moves a
 // 3 mm drop's figure as much as its jitter does (0.85 / 0.99 / 0.95 of
 // 2 sigma / R over successive 0.15 s windows of one drop). Pressure,
 // radius, the constraint's share and the forces are the samplings' means;
 // the time series is the first's.
-Drop sampledDrop(double radius, float spacing, double average, int samplings,
-                 const Options& options) {
-    std::vector<Drop> drops;
-    for (int k = 0; k < samplings; ++k)
-        drops.push_back(restingDrop(radius, spacing, 0, average, options, detail::latticeShift(k)));
+Drop sampledDrop(const std::vector<Drop>& drops, const Options& options) {
+    const int samplings = int(drops.size());
     const auto meanOf = [&](double Drop::*field) {
         std::vector<double> values;
         for (const Drop& d : drops) values.push_back(d.*field);
@@ -334,8 +332,24 @@ CaseResult run(const Options& options) {
     result.title =
         "Laplace pressure of resting drops, from the forces across the equator's inner disc";
     const float spacing = options.quick ? 0.0008f : 0.0005f;
-    const Drop small = sampledDrop(0.003, spacing, kAverage, 4, options);
-    const Drop large = restingDrop(0.006, spacing, 0, kAverage, options);
+    // The large drop, the study's drops (below) and the small drop's
+    // samplings side by side (concurrent.hpp), the longest first.
+    struct Task {
+        double radius, average;
+        int shift;
+    };
+    constexpr int kSamplings = 4;
+    std::vector<Task> tasks{{0.006, kAverage, 0}};
+    if (!options.quick)
+        for (const double r : {0.008, 0.004, 0.0025}) tasks.push_back({r, kStudyAverage, 0});
+    for (int k = 0; k < kSamplings; ++k) tasks.push_back({0.003, kAverage, k});
+    const detail::SerialProgress progress(options);
+    const std::vector<Drop> runs = detail::concurrently(tasks.size(), [&](std::size_t k) {
+        return restingDrop(tasks[k].radius, spacing, 0, tasks[k].average, progress.options(),
+                           detail::latticeShift(tasks[k].shift));
+    });
+    const Drop large = runs.front();
+    const Drop small = sampledDrop({runs.end() - kSamplings, runs.end()}, options);
     // The small drop again at about half the capillary substep (fixed
     // substeps): quieter, and its pressure should not change if it were set
     // by sigma. Not checked; it is the evidence for the failure above.
@@ -345,10 +359,7 @@ CaseResult run(const Options& options) {
     // checked, averaged 0.15 s): p R / 2 sigma is the drop's static
     // tension over sigma, which the model's discrete stress makes fall with
     // R / d (docs/surface_tension.md item 16).
-    std::vector<Drop> study;
-    if (!options.quick)
-        for (const double r : {0.0025, 0.004, 0.008})
-            study.push_back(restingDrop(r, spacing, 0, kStudyAverage, options));
+    const std::vector<Drop> study(runs.begin() + 1, runs.end() - kSamplings);
 
     plot::Panel panel{
         "Constraint's share: its force across the equator per area", "t (s)", "Pa", {}};

@@ -29,6 +29,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "validate/concurrent.hpp"
 #include "validate/drops.hpp"
 #include "validate/measure.hpp"
 
@@ -182,8 +183,9 @@ struct Resolution {
 
 Resolution runResolution(double particlesAcross, int samplings, const Options& options) {
     Resolution r;
-    for (int k = 0; k < samplings; ++k)
-        r.runs.push_back(runDrop(particlesAcross, detail::latticeShift(k)));
+    r.runs = detail::concurrently(std::size_t(samplings), [&](std::size_t k) {
+        return runDrop(particlesAcross, detail::latticeShift(int(k)));
+    });
     std::vector<double> errors;
     for (const Run& run : r.runs) errors.push_back(run.error());
     r.error = detail::sampleMean(errors);
