@@ -52,9 +52,13 @@ enum class Stage {
     PhysicalViscosity,        // v += dt nu lap v (fluid.kinematic_viscosity)
     VorticityConfinement,     // v += dt f_vorticity
     SurfaceTension,           // v += dt a: cohesion of the surface layer, adhesion
-    SurfaceStress,            // T_i of the continuum surface stress
-    ExchangeSurfaceStress,    // MPI: ghosts' T
-    SurfaceStressForce,       // v += dt a: the continuum surface stress's pair force
+    ColourGradient,           // g_i of the curvature force (the surface band)
+    ExchangeColourGradient,   // MPI: ghosts' g
+    BandNormal,               // nb_i: the band's averaged normals
+    ExchangeBandNormal,       // MPI: ghosts' nb
+    Curvature,                // kappa_i
+    ExchangeCurvature,        // MPI: ghosts' kappa
+    CurvatureForce,           // v += dt a: the curvature force
     BoundaryResponse,         // restitution and friction; x = x*
     Collect,                  // MPI: ghosts dropped
     Count
@@ -98,9 +102,13 @@ inline const StageInfo& stageInfo(Stage stage) {
         {"physical_viscosity", &T::postProcess, nullptr},
         {"vorticity_confinement", &T::postProcess, nullptr},
         {"surface_tension", &T::postProcess, nullptr},
-        {"surface_stress", &T::postProcess, nullptr},
-        {"exchange_surface_stress", &T::postProcess, &T::exchange},
-        {"surface_stress_force", &T::postProcess, nullptr},
+        {"colour_gradient", &T::postProcess, nullptr},
+        {"exchange_colour_gradient", &T::postProcess, &T::exchange},
+        {"band_normal", &T::postProcess, nullptr},
+        {"exchange_band_normal", &T::postProcess, &T::exchange},
+        {"curvature", &T::postProcess, nullptr},
+        {"exchange_curvature", &T::postProcess, &T::exchange},
+        {"curvature_force", &T::postProcess, nullptr},
         {"boundary_response", &T::postProcess, nullptr},
         {"collect", &T::postProcess, &T::exchange},
     }};

@@ -58,27 +58,23 @@ constexpr double kCoreStrength = 40.0;
 // (pbf validate rayleigh_drop; docs/surface_tension.md), not per scene.
 constexpr double kCohesionCalibration = 2.5;
 
-// The static surface tension is the continuum surface stress's (Lafaurie et
-// al. 1994; Hu & Adams 2006, eq. 14-16; equations.hpp): the cohesion's pull
-// alone compresses the layer in-plane until the density constraint pushes
-// back, so it holds no static tension (docs/surface_tension.md, item 8). The
-// cohesion stays at a fraction of its pull, to hold outlying particles (the
-// stress has no component along the surface's normal: alone it let a drop
-// disperse), its core kept. Calibrated once (docs/surface_tension.md, item
-// 9): sigma_css = 4 sigma fitted to Rayleigh's frequency at 16 particles
-// across (0.0 %; the Laplace pressures of 3 and 6 mm drops are then
-// predictions, 12 % under); the floor g0 = 0.2 / d on |grad c| is part of
-// that calibration (the bulk's noise gives every particle some |g|, and
-// without the floor the bulk carries a spurious tension; on the rest
-// lattice, h = 2 d, only the outer layer has |g| d > 0: 0.478); a pull of
-// 0.45 (items 10-11 and the Status table: with these passes and the walls'
-// share of g the one tried that passes the full laplace, rayleigh_drop,
-// cube_to_sphere and wetting cases together; at 0.4 the full cube's lowest
-// sphericity read 0.9497, at 0.2 0.945, and it scatters by about 0.003
-// from one setting to the next; 0.5 fails Rayleigh's convergence check;
-// 0.1 and below: Rayleigh -2 to -50 %, the cube breaks up).
-constexpr double kSurfaceStressFactor = 4.0;  // sigma_css / sigma
-constexpr float kSurfaceStressFloor = 0.2f;   // g0: the floor on |g| times the spacing d
+// The static surface tension is the curvature force's (Brackbill et al.
+// 1992; equations.hpp, "Curvature force"): the cohesion's pull alone
+// compresses the layer in-plane until the density constraint pushes back,
+// so it holds no static tension (docs/surface_tension.md, item 8). The force
+// applies sigma itself, its two factors measured rather than fitted (item
+// 20): no calibration factor. The cohesion stays at a fraction of its pull
+// (kCohesionPull), to hold outlying particles, its core kept. Two lengths
+// of the discretisation: the band's floor g0 = 0.2 / d on |grad c| (the
+// bulk's noise gives every particle some |g|; on the rest lattice, h = 2 d,
+// only the outer layer has |g| d > 0: 0.478) and the band's depth inside
+// the interface, e = 0.7 d (measured on resting drops: the A-weighted
+// mean radius of the band lies 0.7 d inside the volume's radius at 6 and
+// 12 spacings per radius, item 20). A pull of 0.45 (item 10) is kept from
+// the stress's calibration: with the curvature force the full laplace,
+// rayleigh_drop, cube_to_sphere and wetting cases pass with it (item 20).
+constexpr float kSurfaceFloor = 0.2f;    // g0: the floor on |g| times the spacing d
+constexpr float kSurfaceOffset = 0.7f;   // e / d
 constexpr double kCohesionPull = 0.45;        // the cohesion's pull, of the lattice derivation's
 
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
@@ -188,8 +184,9 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.cohesionCoreScale = static_cast<float>(
         kCoreStrength * std::pow(double(c.h) * c.h - d * d, 2) * d / (core * core));
     c.surfaceDensity = 0.0f;
-    c.surfaceStress = 0.0f;
-    c.surfaceStressFloor = 0.0f;
+    c.surfaceTension = 0.0f;
+    c.surfaceFloor = 0.0f;
+    c.surfaceOffset = 0.0f;
     c.capillaryTimeStep = std::numeric_limits<float>::infinity();
     if (sigma > 0.0f) {
         const double m = c.particleMass;
@@ -207,8 +204,9 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         // calibration of item 9 ran at the full cohesion's substep).
         c.cohesionScale *= float(kCohesionPull);
         c.cohesionCoreScale /= float(kCohesionPull);
-        c.surfaceStress = static_cast<float>(kSurfaceStressFactor * sigma);
-        c.surfaceStressFloor = kSurfaceStressFloor / std::sqrt(c.cohesionMinDistance2);
+        c.surfaceTension = sigma;
+        c.surfaceFloor = kSurfaceFloor / std::sqrt(c.cohesionMinDistance2);
+        c.surfaceOffset = kSurfaceOffset * std::sqrt(c.cohesionMinDistance2);
         const double k = sigma / (m * m * lattice.surface);  // m^5 / (kg s^2)
         c.adhesionScale = static_cast<float>(6.0 * double(c.poly6.coefficient) * k * m);
         // The artificial pressure is a position correction per iteration: as

@@ -20,24 +20,27 @@
 // cohesion too (particles the jitter drops below the surface density pull),
 // so the constraint's force alone is not the pressure. The case splits the
 // constraint's force pair by pair (detail::fitConstraintPairs) and reads
-// constraint + cohesion pull + core + continuum surface stress + momentum
-// flux across the inner disc of the equator, r < R / 2: that must be
-// 2 sigma / R and scale as 1 / R.
+// constraint + cohesion pull + core + momentum flux across the inner disc
+// of the equator, r < R / 2: that must be 2 sigma / R and scale as 1 / R.
+// (The curvature force acts on the surface band alone: none of it crosses
+// the inner disc.)
 // (Until issue 27's item 8 the case read the constraint's force across the
 // whole equator, which the bulk's cohesion partly takes back.)
 //
 // Two checks of the measure: Newton's third law on the upper half at rest
 // (across the whole equator the constraint's force, the cohesion's core and
-// the momentum flux must equal the cohesion's pull and the continuum
-// surface stress's pair forces, each summed here from
-// the particles, EquatorForces), and the pair fit reproducing the
-// constraint's force across the whole equator.
+// the momentum flux must equal the cohesion's pull across it and the
+// curvature force on the upper half's particles, each summed here from the
+// particles, EquatorForces), and the pair fit reproducing the constraint's
+// force across the whole equator.
 //
 // What it found (docs/surface_tension.md, "Why Laplace fails"): with the
 // cohesion alone the pressure followed the particles' jitter (with the
 // substep halved the drop was quieter and the pressure fell tenfold); the
-// continuum surface stress (items 8-9) gives a static pressure, and the
-// half-step drop below shows that it no longer follows the substep.
+// continuum surface stress (items 8-9) gave a static pressure, and the
+// half-step drop below showed that it no longer followed the substep; the
+// stress's fell with R / d (item 16), the curvature force's does not
+// (item 20).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -82,9 +85,12 @@ struct EquatorForces {
     // check that the bulk's stress is uniform).
     double constraintFit = 0.0, constraintInner = 0.0, pullInner = 0.0, coreInner = 0.0;
     double kineticInner = 0.0, totalWide = 0.0, fitResidual = 0.0;
-    // The continuum surface stress's pair forces (equations.hpp), across the
-    // whole equator and across the inner disc.
-    double stress = 0.0, stressInner = 0.0;
+    // The curvature force (equations.hpp) on the upper half's particles, N
+    // upward (a one-body force on the surface band: it crosses no disc).
+    double curvature = 0.0;
+    // The band's A-weighted mean distance from the centre (m): how deep it
+    // lies inside the volume's radius (the force's surfaceOffset).
+    double bandRadius = 0.0;
 
     EquatorForces& operator+=(const EquatorForces& o) {
         pull += o.pull, core += o.core, kinetic += o.kinetic, energy += o.energy;
@@ -92,20 +98,20 @@ struct EquatorForces {
         constraintFit += o.constraintFit, constraintInner += o.constraintInner;
         pullInner += o.pullInner, coreInner += o.coreInner, kineticInner += o.kineticInner;
         totalWide += o.totalWide, fitResidual += o.fitResidual;
-        stress += o.stress, stressInner += o.stressInner;
+        curvature += o.curvature, bandRadius += o.bandRadius;
         return *this;
     }
     EquatorForces& operator/=(double n) {
         for (double* x : {&pull, &core, &kinetic, &energy, &surface, &kineticEnergy, &constraintFit,
                           &constraintInner, &pullInner, &coreInner, &kineticInner, &totalWide,
-                          &fitResidual, &stress, &stressInner})
+                          &fitResidual, &curvature, &bandRadius})
             *x /= n;
         return *this;
     }
     // N upward on the upper half across the inner disc: the bulk's pressure
     // times its area.
     double innerTotal() const {
-        return constraintInner + pullInner + coreInner + kineticInner + stressInner;
+        return constraintInner + pullInner + coreInner + kineticInner;
     }
 };
 
@@ -140,11 +146,16 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
             if (j != i && lengthSquared(x[i] - x[j]) < c.h * c.h) neighbours[i].push_back(j);
         solve[i] = p.solveAcceleration.get(i);
     }
-    // T_i of the continuum surface stress, as the solver's pass computes it.
-    std::vector<Sym3> stressOf(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i)
-        stressOf[i] = reference::surfaceStress(c, nullptr, x, neighbours[i], i);
-    const double stressScale = m * m / (double(c.restDensity) * c.restDensity);  // m (m / rho0^2)
+    // The curvature force's acceleration, as the solver's passes compute it.
+    const std::size_t n = x.size();
+    std::vector<Vec3> gradient(n), normal(n);
+    std::vector<float> kappa(n);
+    for (std::size_t i = 0; i < n; ++i)
+        gradient[i] = reference::colourGradient(c, x, neighbours[i], i);
+    for (std::size_t i = 0; i < n; ++i)
+        normal[i] = reference::bandNormal(c, x, gradient, neighbours[i], i);
+    for (std::size_t i = 0; i < n; ++i)
+        kappa[i] = reference::curvature(c, x, gradient, normal, neighbours[i], i);
     const detail::ConstraintPairs fit = detail::fitConstraintPairs(x, solve, neighbours, c.spiky);
     const Vec3 centre = detail::centroid(x);
     const double inner2 = 0.25 * radius * radius, wide2 = 0.49 * radius * radius;
@@ -154,6 +165,13 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
     };
     EquatorForces f;
     f.fitResidual = fit.residual;
+    double bandWeight = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float w = reference::surfaceBandWeight(c, gradient[i]);
+        f.bandRadius += double(w) * length(x[i] - centre);
+        bandWeight += w;
+    }
+    f.bandRadius /= bandWeight;
     for (std::size_t i = 0; i < x.size(); ++i) {
         const bool si = reference::onSurface(c, p.density[i]);
         double sum = flat(0.0);
@@ -170,19 +188,18 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
                     ? m * (fit.L[i] + fit.L[j]) * double(c.spiky.gradient(rij, std::sqrt(r2)).y)
                     : 0.0;
             f.constraintFit += cy;
-            const double sy =
-                stressScale *
-                double(reference::surfaceStressPairTerm(c, stressOf[i], stressOf[j], rij).y);
-            f.stress += sy;
             // Which disc the pair crosses: where its midpoint is from the axis.
             const double axis2 = fromAxis2(0.5f * (x[i] + x[j]));
-            if (axis2 < wide2) f.totalWide += cy + fy + sy;
+            if (axis2 < wide2) f.totalWide += cy + fy;
             if (axis2 < inner2) {
                 f.constraintInner += cy;
-                f.stressInner += sy;
                 (r2 < c.cohesionCoreDistance2 ? f.coreInner : f.pullInner) += fy;
             }
         }
+        if (x[i].y > plane)
+            f.curvature += m * double(reference::curvatureForceVelocityChange(
+                                          c, 1.0f, x, gradient, kappa, neighbours[i], i)
+                                          .y);
         if (si) {
             f.energy += epsilon * m * (full - sum);
             f.surface += 1.0;
@@ -212,10 +229,11 @@ struct Drop {
     double area() const { return std::numbers::pi * radius * radius; }
     double innerArea() const { return 0.25 * area(); }
     double vrms() const { return std::sqrt(2.0 * mean.kineticEnergy / (mass * double(particles))); }
-    // (constraint + core + kinetic) / (pull + surface stress) across the
-    // equator: 1 when the constraint measure is the force it claims to be.
+    // (constraint + core + kinetic) / (pull + curvature force) on the upper
+    // half: 1 when the constraint measure is the force it claims to be.
     double balance() const {
-        return (constraintShare * area() + mean.core + mean.kinetic) / -(mean.pull + mean.stress);
+        return (constraintShare * area() + mean.core + mean.kinetic) /
+               -(mean.pull + mean.curvature);
     }
     // The pair fit's constraint force across the equator over the per-particle sum.
     double fitAgreement() const { return mean.constraintFit / (constraintShare * area()); }
@@ -280,8 +298,8 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, double aver
             "r < 0.7 R without the kinetic {:.1f}), 2 sigma / R = {:.1f} Pa; across the whole "
             "equator (Pa): constraint {:.1f} (pair fit {:.1f}, residual {:.2f}), cohesion pull "
             "{:.1f}, core {:.1f}, kinetic {:.1f} (balance {:.3f}); {:.0f} surface particles, "
-            "cohesion energy / area {:.4f} N/m, rms speed {:.3f} m/s; surface stress across the "
-            "equator {:.1f} Pa, across r < R/2 {:.1f} Pa",
+            "cohesion energy / area {:.4f} N/m, rms speed {:.3f} m/s; curvature force on the "
+            "upper half {:.1f} Pa, its band {:.2f} spacings inside R",
             1e3 * drop.radius, drop.particles, 1e6 * drop.dt, drop.pressure,
             drop.mean.constraintInner / drop.innerArea(), drop.mean.pullInner / drop.innerArea(),
             drop.mean.coreInner / drop.innerArea(), drop.mean.kineticInner / drop.innerArea(),
@@ -289,8 +307,8 @@ Drop restingDrop(double radius, float spacing, int substepsPerFrame, double aver
             drop.constraintShare, drop.mean.constraintFit / drop.area(), drop.mean.fitResidual,
             drop.mean.pull / drop.area(), drop.mean.core / drop.area(),
             drop.mean.kinetic / drop.area(), drop.balance(), drop.mean.surface,
-            drop.mean.energy / (4.0 * drop.area()), drop.vrms(), drop.mean.stress / drop.area(),
-            drop.mean.stressInner / drop.innerArea()));
+            drop.mean.energy / (4.0 * drop.area()), drop.vrms(), drop.mean.curvature / drop.area(),
+            (drop.radius - drop.mean.bandRadius) / double(spacing)));
     return drop;
 }
 
@@ -357,8 +375,9 @@ CaseResult run(const Options& options) {
     const Drop quiet = restingDrop(0.003, spacing, halfStep, kAverage, options);
     // The 1 / R law over 5 to 16 spacings in radius (without --quick; not
     // checked, averaged 0.15 s): p R / 2 sigma is the drop's static
-    // tension over sigma, which the model's discrete stress makes fall with
-    // R / d (docs/surface_tension.md item 16).
+    // tension over sigma (the continuum surface stress of items 8-19 made it
+    // fall with R / d, docs/surface_tension.md item 16; the curvature force
+    // of item 20 holds it).
     const std::vector<Drop> study(runs.begin() + 1, runs.end() - kSamplings);
 
     plot::Panel panel{
@@ -398,8 +417,9 @@ CaseResult run(const Options& options) {
                              : ""),
              d->pressure, 2.0 * kSigma / d->radius, 0.25 * 2.0 * kSigma / d->radius, "Pa",
              "Young-Laplace: 2 sigma / R",
-             "25 %: sigma is calibrated on the Rayleigh frequency (within 10 %), and the pair "
-             "fit of the constraint's force leaves a residual of about a quarter"});
+             "25 %: the curvature force's factors are measured on the particles, not fitted "
+             "(kappa and the band's integral within 5-15 %, docs/surface_tension.md item 20), "
+             "and the pair fit of the constraint's force leaves a residual of about a quarter"});
     result.checks.push_back({"p R of the small drop / p R of the large",
                              small.pressure * small.radius / (large.pressure * large.radius), 1.0,
                              0.2, "", "the 1 / R law", "both drops at the same resolution"});
@@ -410,8 +430,8 @@ CaseResult run(const Options& options) {
     // 1e-6 it no longer would.)
     for (const Drop* d : {&small, &large})
         result.checks.push_back(
-            {fmt::format("{:.1f} mm drop: (constraint + core + kinetic) / (cohesion pull + surface "
-                         "stress) across the equator",
+            {fmt::format("{:.1f} mm drop: (constraint + core + kinetic) across the equator / "
+                         "(cohesion pull across it + curvature force on the upper half)",
                          1e3 * d->radius),
              d->balance(), 1.0, 0.2, "", "Newton's third law on the upper half at rest",
              "20 %: the kinetic share is estimated in a slab two spacings thick, and the "
@@ -433,7 +453,7 @@ CaseResult run(const Options& options) {
         "averaged for 0.45 s; the 3 mm drop cut from the lattice at {} shifts and averaged. "
         "Pressure: the total stress across the equator's inner disc "
         "(r < R / 2: constraint, split pair by pair by a least-squares fit of one lambda per "
-        "particle, + cohesion pull + core + continuum surface stress + momentum flux); the "
+        "particle, + cohesion pull + core + momentum flux); the "
         "constraint's force across the "
         "whole equator alone: {:.1f} and {:.1f} Pa. The {:.1f} mm drop at a substep of {:.0f} "
         "us instead of {:.0f}: rms speed {:.3f} m/s instead of {:.3f}, {:.0f} surface particles "

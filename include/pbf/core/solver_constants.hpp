@@ -71,14 +71,14 @@ struct SolverConstants {
     // cohesion on the lattice is 2 sigma: a = adhesion adhesionScale
     // WallTable::cohesionSum, adhesionScale = 6 c6 k m.
     float adhesionScale = 0.0f;
-    // The continuum surface stress (Lafaurie et al. 1994; Hu & Adams 2006,
-    // J. Comput. Phys. 213, eq. 14-16; equations.hpp, "Continuum surface
-    // stress"): T_i = surfaceStress max(|g_i| - surfaceStressFloor, 0)
-    // (I - n n), g_i = sum_j (m / rho0) grad W_ij, n = g / |g|; the static
-    // surface tension, beside the cohesion above at a fifth of its pull.
-    // Both 0 while surface tension is off.
-    float surfaceStress = 0.0f;       // sigma_css, N/m
-    float surfaceStressFloor = 0.0f;  // g0 / d, 1/m
+    // The curvature force (Brackbill et al. 1992; equations.hpp, "Curvature
+    // force"): a_i = -surfaceTension kappa_i delta_i n_i / rho0 on the band
+    // |g_i| > surfaceFloor, g_i = sum_j (m / rho0) grad W_ij, the band lying
+    // surfaceOffset inside the interface; the static surface tension, beside
+    // the cohesion above. All 0 while surface tension is off.
+    float surfaceTension = 0.0f;  // sigma, N/m
+    float surfaceFloor = 0.0f;    // g0 / d, 1/m
+    float surfaceOffset = 0.0f;   // e, m
     // Largest substep with surface tension: 1 / omega_max, omega_max^2 a
     // bound on the cohesion's stiffness per unit mass on the rest lattice
     // (both particles of every pair on the surface: 2 epsilon sum over the

@@ -1,5 +1,5 @@
 // The neighbour-batch loops shared by the SIMD passes (neighbor_passes.cpp,
-// surface_tension_pass.cpp, surface_stress_pass.cpp): a batch of one particle's neighbours as SIMD
+// surface_tension_pass.cpp): a batch of one particle's neighbours as SIMD
 // lanes (geometry, masks, the kernels' shapes), two particles' batches
 // interleaved, and ranges split at the neighbour lists' blocks. Compiled
 // once per instruction set target like simd-inl.h (include it first).
@@ -78,24 +78,6 @@ HWY_INLINE FloatVec spikyShapeOverR(const PairConstants& k, const PairBatch& b, 
     const FloatVec dd = hn::Sub(k.h, hn::Mul(b.r2, b.inverseR));
     squared = hn::IfThenElseZero(b.inside, hn::Mul(dd, dd));
     return hn::Mul(squared, b.inverseR);
-}
-
-// SpikyKernel::gradient's factor, lane for lane: grad_i W_ij =
-// this * (x_i - x_j), coefficient (h - r)^2 / r with r = sqrt(r^2)
-// correctly rounded and the same operations in the same order (not the
-// estimate of 1/r above), zero outside 0 < r < h as there. The continuum
-// surface stress's pair terms (surface_stress_pass.cpp) use it: with it
-// they are the reference's own terms (equations.hpp: colourGradientTerm,
-// surfaceStressPairTerm) up to how the compiler fuses r^2's products, and
-// only the order of their sums differs (tests/backend/reference/
-// stage_agreement.hpp derives the bound on that assumption).
-HWY_INLINE FloatVec spikyGradientFactor(FloatVec h, FloatVec coefficient, const PairBatch& b) {
-    const FloatTag d;
-    const FloatVec r = hn::Sqrt(b.r2);
-    const FloatMask support = hn::And(b.inside, hn::And(hn::Lt(r, h), hn::Gt(r, hn::Zero(d))));
-    const FloatVec dh = hn::Sub(h, r);
-    // Masked lanes may divide by zero; their result is discarded.
-    return hn::IfThenElseZero(support, hn::Div(hn::Mul(hn::Mul(coefficient, dh), dh), r));
 }
 
 // Runs the neighbour batches of particles i and i + 1 interleaved: one

@@ -97,7 +97,7 @@ struct Gathered4 {
 };
 
 // `Stride`: floats from one element's record to the next (4 for the packed
-// points; 6 for the Sym3 stresses, whose first four floats it then reads,
+// points; a longer record has its first four floats read,
 // 16-byte loads without alignment).
 template <bool Wide, std::size_t Stride = 4>
 HWY_INLINE Gathered4 gather4(const float* records, const std::uint16_t* list) {

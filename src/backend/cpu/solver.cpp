@@ -227,33 +227,56 @@ void Solver::buildPlan() {
                    });
                },
                [](const SolverStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
-    // The continuum surface stress (equations.hpp): T_i of the owned
-    // particles from the neighbours' x* (the ghosts' T comes from their
-    // owners: a ghost's own neighbourhood is incomplete), then the pair
-    // force, v += dt a after the cohesion.
-    const auto surfaceStressOn = [](const SolverStep& s) {
-        return s.context.constants.surfaceStress > 0.0f;
+    // The curvature force (equations.hpp): g, nb and kappa of the owned
+    // particles in turn from the neighbours' x* and previous field (the
+    // ghosts' come from their owners between the passes: a ghost's own
+    // neighbourhood is incomplete), then v += dt a after the cohesion.
+    const auto curvatureOn = [](const SolverStep& s) {
+        return s.context.constants.surfaceTension > 0.0f;
     };
-    plan_.add(Part::After, {Stage::SurfaceStress,
+    plan_.add(Part::After, {Stage::ColourGradient,
                             [this](SolverStep& s) {
-                                surfaceStress_.resize(s.particles.size());
-                                s.surfaceStress = surfaceStress_.data();
+                                const std::size_t n = s.particles.size();
+                                colourGradient_.resize(n);
+                                bandNormal_.resize(n);
+                                curvature_.resize(n);
+                                s.colourGradient = &colourGradient_;
+                                s.bandNormal = &bandNormal_;
+                                s.curvature = curvature_.data();
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::computeSurfaceStress(s.context.constants, s.solids,
-                                                                 search_, s.predicted,
-                                                                 s.surfaceStress, b, e);
+                                    stages::computeColourGradient(s.context.constants, search_,
+                                                                  s.predicted, *s.colourGradient,
+                                                                  b, e);
                                 });
                             },
-                            surfaceStressOn});
-    plan_.add(Part::After, {Stage::SurfaceStressForce,
+                            curvatureOn});
+    plan_.add(Part::After, {Stage::BandNormal,
                             [this](SolverStep& s) {
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applySurfaceStress(s.context.constants, s.dt, search_,
-                                                               s.predicted, s.surfaceStress,
-                                                               s.particles.velocity, b, e);
+                                    stages::computeBandNormal(s.context.constants, search_,
+                                                              s.predicted, *s.colourGradient,
+                                                              *s.bandNormal, b, e);
                                 });
                             },
-                            surfaceStressOn});
+                            curvatureOn});
+    plan_.add(Part::After, {Stage::Curvature,
+                            [this](SolverStep& s) {
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::computeCurvature(s.context.constants, search_,
+                                                             s.predicted, *s.colourGradient,
+                                                             *s.bandNormal, s.curvature, b, e);
+                                });
+                            },
+                            curvatureOn});
+    plan_.add(Part::After, {Stage::CurvatureForce,
+                            [this](SolverStep& s) {
+                                forOwned(s, [&](std::size_t b, std::size_t e) {
+                                    stages::applyCurvatureForce(
+                                        s.context.constants, s.dt, search_, s.predicted,
+                                        *s.colourGradient, s.curvature, s.particles.velocity, b, e);
+                                });
+                            },
+                            curvatureOn});
     plan_.add(Part::After, {Stage::BoundaryResponse, [](SolverStep& s) {
                                 const SolverParams& solver = s.context.params.solver;
                                 ParticleStore& p = s.particles;
@@ -276,9 +299,11 @@ void Solver::step(const SolverContext& context, ParticleStore& p, float dt, Stag
 std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
-           sizeof(float) * 3 * vorticity_.x.capacity() +
+           sizeof(float) * 3 *
+               (vorticity_.x.capacity() + colourGradient_.x.capacity() +
+                bandNormal_.x.capacity()) +
            sizeof(std::int64_t) * blockCompression_.capacity() +
-           sizeof(Sym3) * surfaceStress_.capacity();
+           sizeof(float) * curvature_.capacity();
 }
 
 }  // namespace pbf

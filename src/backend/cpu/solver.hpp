@@ -24,7 +24,6 @@
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
 #include "core/iteration_control.hpp"
-#include "core/sym3.hpp"
 #include "pbf/backend/backend.hpp"
 #include "pbf/core/particles.hpp"
 
@@ -69,7 +68,10 @@ struct SolverStep : StepProgress {
     PackedPoint* predicted = nullptr;
     PackedPoint* withLambda = nullptr;
     Float3Array* vorticity = nullptr;  // omega_i, only while vorticity confinement is on
-    Sym3* surfaceStress = nullptr;     // T_i, only while surface tension is on
+    // The curvature force's fields, only while surface tension is on.
+    Float3Array* colourGradient = nullptr;  // g_i
+    Float3Array* bandNormal = nullptr;      // nb_i
+    float* curvature = nullptr;             // kappa_i
 };
 
 class Solver {
@@ -108,7 +110,9 @@ class Solver {
     std::vector<PackedPoint> packedWithLambda_;
     Float3Array vorticity_;
     std::vector<std::int64_t> blockCompression_;  // sum of C_i per block, fixed point
-    std::vector<Sym3> surfaceStress_;             // T_i of the continuum surface stress
+    Float3Array colourGradient_;                  // the curvature force's g_i
+    Float3Array bandNormal_;                      // nb_i
+    std::vector<float> curvature_;                // kappa_i
 };
 
 }  // namespace pbf

@@ -11,7 +11,6 @@
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/cpu/solver.hpp"
 #include "backend/reactions.hpp"
-#include "core/sym3.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/geometry/solids.hpp"
@@ -113,16 +112,25 @@ void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const Sol
                          const PackedPoint* positionDensity, Float3Array& velocity,
                          std::size_t begin, std::size_t end);
 
-// The continuum surface stress (reference::surfaceStressOf): T_i from the
-// neighbours' x* (surface_stress_pass.cpp).
-void computeSurfaceStress(const SolverConstants& c, const SolidSet* solids,
-                          const NeighborSearch& search, const PackedPoint* predicted, Sym3* stress,
-                          std::size_t begin, std::size_t end);
-// Its force (reference::surfaceStressVelocityChangeOf): v_i += dt a_i from the
-// stresses of i and its neighbours (all of them computed first).
-void applySurfaceStress(const SolverConstants& c, float dt, const NeighborSearch& search,
-                        const PackedPoint* predicted, const Sym3* stress, Float3Array& velocity,
-                        std::size_t begin, std::size_t end);
+// The curvature force (curvature_pass.cpp; reference::colourGradientOf,
+// bandNormalOf, curvatureOf, curvatureForceVelocityChangeOf), one pass per
+// field, each reading the previous field at the neighbours (all of them
+// computed first): g_i, the band's averaged normals nb_i, kappa_i, then
+// v_i += dt a_i.
+void computeColourGradient(const SolverConstants& c, const NeighborSearch& search,
+                           const PackedPoint* predicted, Float3Array& gradient, std::size_t begin,
+                           std::size_t end);
+void computeBandNormal(const SolverConstants& c, const NeighborSearch& search,
+                       const PackedPoint* predicted, const Float3Array& gradient,
+                       Float3Array& normal, std::size_t begin, std::size_t end);
+void computeCurvature(const SolverConstants& c, const NeighborSearch& search,
+                      const PackedPoint* predicted, const Float3Array& gradient,
+                      const Float3Array& normal, float* curvature, std::size_t begin,
+                      std::size_t end);
+void applyCurvatureForce(const SolverConstants& c, float dt, const NeighborSearch& search,
+                         const PackedPoint* predicted, const Float3Array& gradient,
+                         const float* curvature, Float3Array& velocity, std::size_t begin,
+                         std::size_t end);
 
 // (x*, rho) packed for surface tension's pass.
 void packPositionDensities(const PackedPoint* predicted, const float* density,

@@ -46,9 +46,9 @@ struct StageOutputs {
     // x* with the density pass's rho, with those settings' constants and
     // solver.wall_adhesion (the other stages keep `params`' constants).
     std::vector<Vec3> surfaceTensionVelocity;
-    // With the same settings: the continuum surface stress's acceleration a
-    // at x* (its two kernels on v = 0 with a step of 1 s).
-    std::vector<Vec3> surfaceStressAcceleration;
+    // With the same settings: the curvature force's acceleration a at x*
+    // (its four kernels on v = 0 with a step of 1 s).
+    std::vector<Vec3> curvatureAcceleration;
 };
 
 namespace on_gpu {

@@ -611,26 +611,38 @@ class DeviceBackend final : public Backend {
                                                  {raw(p_.density)},
                                                  {}});
             out.surfaceTensionVelocity = vectors(corrected_);
-            // The continuum surface stress alone, on v = 0 with a step of 1 s:
-            // its acceleration a.
-            surfaceStress_.resize(n);
+            // The curvature force alone, on v = 0 with a step of 1 s: its
+            // acceleration a.
+            resizeCurvature(n);
             thrust::fill(corrected_.x.begin(), corrected_.x.end(), 0.0f);
             thrust::fill(corrected_.y.begin(), corrected_.y.end(), 0.0f);
             thrust::fill(corrected_.z.begin(), corrected_.z.end(), 0.0f);
-            forEachIndex(n, SurfaceStressKernel{
-                                cs, solids, search, p_.predicted.view(), {raw(surfaceStress_)}});
-            forEachIndex(n, SurfaceStressForceKernel{cs,
-                                                     1.0f,
-                                                     search,
-                                                     p_.predicted.view(),
-                                                     corrected_.view(),
-                                                     {raw(surfaceStress_)}});
-            out.surfaceStressAcceleration = vectors(corrected_);
+            runCurvatureForce(cs, 1.0f, search, corrected_.view());
+            out.curvatureAcceleration = vectors(corrected_);
         }
         return out;
     }
 
   private:
+    void resizeCurvature(std::size_t n) {
+        colourGradient_.resize(n);
+        bandNormal_.resize(n);
+        curvature_.resize(n);
+    }
+    // The curvature force's four kernels at x*, v += dt a into `velocity`.
+    void runCurvatureForce(const SolverConstants& c, float dt, NeighborLists search,
+                           Float3View velocity) {
+        const std::size_t n = p_.size();
+        forEachIndex(n, ColourGradientKernel{c, search, p_.predicted.view(),
+                                             colourGradient_.view()});
+        forEachIndex(n, BandNormalKernel{c, search, p_.predicted.view(), colourGradient_.view(),
+                                         bandNormal_.view()});
+        forEachIndex(n, CurvatureKernel{c, search, p_.predicted.view(), colourGradient_.view(),
+                                        bandNormal_.view(), {raw(curvature_)}});
+        forEachIndex(n, CurvatureForceKernel{c, dt, search, p_.predicted.view(), velocity,
+                                             colourGradient_.view(), {raw(curvature_)}});
+    }
+
     static Float3View view(const DeviceFloat3& a) {
         return const_cast<DeviceFloat3&>(a).view();  // kernels given it only read
     }
@@ -686,7 +698,7 @@ class DeviceBackend final : public Backend {
             params.fluid.kinematicViscosity > 0.0f)
             post_.resize(n);
         if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
-        if (params.fluid.surfaceTension > 0.0f) surfaceStress_.resize(n);
+        if (params.fluid.surfaceTension > 0.0f) resizeCurvature(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
         if (reactionsActive_) {
             solidCount_ = solids.solids.count;
@@ -949,31 +961,16 @@ class DeviceBackend final : public Backend {
                        foldReactions(1);
                    },
                    [](const DeviceStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
-        // The continuum surface stress: every T_i, then its force v += dt a.
-        const auto surfaceStressOn = [](const DeviceStep& s) {
-            return s.context.constants.surfaceStress > 0.0f;
-        };
-        plan_.add(Part::After, {Stage::SurfaceStress,
+        // The curvature force: g, nb and kappa of every particle in turn,
+        // then v += dt a.
+        plan_.add(Part::After, {Stage::CurvatureForce,
                                 [this](DeviceStep& s) {
-                                    forEachIndex(p_.size(),
-                                                 SurfaceStressKernel{s.context.constants,
-                                                                     s.solids,
-                                                                     s.search,
-                                                                     p_.predicted.view(),
-                                                                     {raw(surfaceStress_)}});
+                                    runCurvatureForce(s.context.constants, s.dt, s.search,
+                                                      p_.velocity.view());
                                 },
-                                surfaceStressOn});
-        plan_.add(Part::After, {Stage::SurfaceStressForce,
-                                [this](DeviceStep& s) {
-                                    forEachIndex(p_.size(),
-                                                 SurfaceStressForceKernel{s.context.constants,
-                                                                          s.dt,
-                                                                          s.search,
-                                                                          p_.predicted.view(),
-                                                                          p_.velocity.view(),
-                                                                          {raw(surfaceStress_)}});
-                                },
-                                surfaceStressOn});
+                                [](const DeviceStep& s) {
+                                    return s.context.constants.surfaceTension > 0.0f;
+                                }});
         plan_.add(Part::After,
                   {Stage::BoundaryResponse, [this](DeviceStep& s) {
                        const SolverParams& solver = s.context.params.solver;
@@ -1023,7 +1020,7 @@ class DeviceBackend final : public Backend {
         std::size_t bytes = 0;
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
         bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
-        bytes += bytesOf(surfaceStress_);
+        bytes += colourGradient_.bytes() + bandNormal_.bytes() + bytesOf(curvature_);
         bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
@@ -1052,7 +1049,9 @@ class DeviceBackend final : public Backend {
     DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
     DeviceFloat3 vorticity_;  // omega, while confinement is on
     DeviceArray<float> lambda_;
-    DeviceArray<Sym3> surfaceStress_;  // T_i, while surface tension is on
+    // The curvature force's g_i, nb_i and kappa_i, while surface tension is on.
+    DeviceFloat3 colourGradient_, bandNormal_;
+    DeviceArray<float> curvature_;
     DeviceArray<std::uint32_t> keys_, order_, cellStart_;
     DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
     DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices

@@ -23,7 +23,6 @@
 #include "core/blocks.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
-#include "core/sym3.hpp"
 #include "pbf/core/config.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -50,12 +49,6 @@ struct Float3View {
 struct FloatView {
     float* values = nullptr;
     PBF_HD float operator()(std::uint32_t i) const { return values[i]; }
-};
-
-// A symmetric tensor attribute (the continuum surface stress T_i).
-struct Sym3View {
-    Sym3* values = nullptr;
-    PBF_HD Sym3 operator()(std::uint32_t i) const { return values[i]; }
 };
 
 // The neighbours of particle i as the reference's lists would hold them:
@@ -378,31 +371,49 @@ struct SurfaceTensionKernel {
     }
 };
 
-// The continuum surface stress (equations.hpp, "Continuum surface
-// stress"): T_i from the neighbours' x* (reference::surfaceStressOf), for
-// every particle before the force kernel reads them.
-struct SurfaceStressKernel {
+// The curvature force's passes (reference::colourGradientOf, bandNormalOf,
+// curvatureOf, curvatureForceVelocityChangeOf), one kernel per field, each
+// launched after the previous has written every particle's.
+struct ColourGradientKernel {
     SolverConstants c;
-    SolidsArgument solids;
     NeighborLists search;
-    Float3View predicted;
-    Sym3View stress;
+    Float3View predicted, gradient;
     PBF_HD void operator()(std::uint32_t i) const {
-        stress.values[i] = reference::surfaceStressOf(c, solids.get(), search.of(i), predicted, i);
+        gradient.set(i, reference::colourGradientOf(c, search.of(i), predicted, i));
     }
 };
 
-// Its pair force, v_i += dt a_i (reference::surfaceStressVelocityChangeOf),
-// after surface tension's kernel (as the CPU adds it after the cohesion).
-struct SurfaceStressForceKernel {
+struct BandNormalKernel {
+    SolverConstants c;
+    NeighborLists search;
+    Float3View predicted, gradient, normal;
+    PBF_HD void operator()(std::uint32_t i) const {
+        normal.set(i, reference::bandNormalOf(c, search.of(i), predicted, gradient, i));
+    }
+};
+
+struct CurvatureKernel {
+    SolverConstants c;
+    NeighborLists search;
+    Float3View predicted, gradient, normal;
+    FloatView curvature;
+    PBF_HD void operator()(std::uint32_t i) const {
+        curvature.values[i] =
+            reference::curvatureOf(c, search.of(i), predicted, gradient, normal, i);
+    }
+};
+
+// v += dt a after surface tension's kernel (as the CPU adds it after the
+// cohesion).
+struct CurvatureForceKernel {
     SolverConstants c;
     float dt = 0.0f;
     NeighborLists search;
-    Float3View predicted, velocity;
-    Sym3View stress;
+    Float3View predicted, velocity, gradient;
+    FloatView curvature;
     PBF_HD void operator()(std::uint32_t i) const {
-        const Vec3 dv =
-            reference::surfaceStressVelocityChangeOf(c, dt, search.of(i), predicted, stress, i);
+        const Vec3 dv = reference::curvatureForceVelocityChangeOf(c, dt, search.of(i), predicted,
+                                                                  gradient, curvature, i);
         velocity.set(i, velocity(i) + dv);
     }
 };

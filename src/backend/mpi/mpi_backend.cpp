@@ -294,14 +294,23 @@ class MpiBackend final : public Backend {
             Stage::ViscosityAndVorticity,
             {Stage::ExchangeVorticity, [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
              [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
-        // The continuum surface stress: T of the owned particles, then the
-        // ghosts' from their owners (a ghost's neighbours beyond the halo
-        // are missing: its own g would be wrong).
-        plan.insertAfter(
-            Stage::SurfaceStress,
-            {Stage::ExchangeSurfaceStress,
-             [this](SolverStep& s) { halo_.exchange(s.surfaceStress); },
-             [](const SolverStep& s) { return s.context.constants.surfaceStress > 0.0f; }});
+        // The curvature force: each field of the owned particles, then the
+        // ghosts' from their owners before the next pass reads them (a
+        // ghost's neighbours beyond the halo are missing: its own would be
+        // wrong).
+        const auto curvatureOn = [](const SolverStep& s) {
+            return s.context.constants.surfaceTension > 0.0f;
+        };
+        plan.insertAfter(Stage::ColourGradient,
+                         {Stage::ExchangeColourGradient,
+                          [this](SolverStep& s) { halo_.exchange(*s.colourGradient); },
+                          curvatureOn});
+        plan.insertAfter(Stage::BandNormal,
+                         {Stage::ExchangeBandNormal,
+                          [this](SolverStep& s) { halo_.exchange(*s.bandNormal); }, curvatureOn});
+        plan.insertAfter(Stage::Curvature,
+                         {Stage::ExchangeCurvature,
+                          [this](SolverStep& s) { halo_.exchange(s.curvature); }, curvatureOn});
         // End of the step: the ghosts are dropped.
         plan.insertAfter(Stage::BoundaryResponse,
                          {Stage::Collect, [this](SolverStep& s) { halo_.collect(s.particles); }});

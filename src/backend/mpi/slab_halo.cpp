@@ -273,10 +273,6 @@ void SlabHalo::exchange(Float3Array& values) {
     exchangeBytes(values.z.data(), sizeof(float));
 }
 
-void SlabHalo::exchange(Sym3* values) {
-    exchangeBytes(values, sizeof(Sym3));
-}
-
 void SlabHalo::collect(ParticleStore& p) {
     p.keepRange(begin_, end_);
 }

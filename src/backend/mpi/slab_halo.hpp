@@ -78,7 +78,6 @@ class SlabHalo {
     void exchange(PackedPoint* records);
     void exchange(float* values);
     void exchange(Float3Array& values);
-    void exchange(Sym3* values);
     // Sums over all processes, in place (integers: exact in any order).
     void sum(std::int64_t* values, int count);
     // End of the step: drops the ghosts.

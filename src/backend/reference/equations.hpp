@@ -19,7 +19,6 @@
 //   density and its gradient (1/m^4) to grad_i C_i, and carry no lambda.
 #pragma once
 
-#include "core/sym3.hpp"
 #include "pbf/core/config.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -266,81 +265,110 @@ PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pu
     return c.adhesionScale * pull;
 }
 
-// ---- Continuum surface stress (the static surface tension) -----------------
+// ---- Curvature force (the static surface tension) --------------------------
 //
 // The cohesion above holds outlying particles but no static tension: its
 // in-plane pull compresses the layer until the density constraint pushes
-// back (docs/surface_tension.md, items 8-9). A liquid's tension is a
-// tangential stress of fixed size sigma: the continuum surface stress
-// (Lafaurie et al. 1994; Hu & Adams 2006, J. Comput. Phys. 213, eq. 14-16)
-//   g_i = sum_j V grad W_ij          (V = m / rho0, spiky: grad c, 1/m)
-//   T_i = sigma_css max(|g_i| - g0 / d, 0) (I - n_i n_i),  n_i = g_i / |g_i|
-//   a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij
-// (Hu & Adams' eq. 16 with the volumes m / rho0 of the incompressible
-// bulk), pairwise antisymmetric (momentum conserved), v += dt a after the
-// cohesion at x*. T has no component along n, so a flat surface is not
-// pulled along its normal; where it curves, the in-plane tension pulls the
-// layer inwards. The floor g0 / d keeps the bulk's noise (every particle
-// has some |g|) from carrying a tension. sigma_css = SolverConstants::
-// surfaceStress, g0 / d = surfaceStressFloor (calibration:
-// core/solver_constants.cpp).
+// back (docs/surface_tension.md, items 8-9). The tension's pressure jump
+// sigma kappa is applied as the continuum surface force (Brackbill, Kothe &
+// Zemach 1992, J. Comput. Phys. 100, eq. 21; Morris 2000, Int. J. Numer.
+// Meth. Fluids 33, for SPH) on the particles of the surface band:
+//   g_i = sum_j V grad W_ij            (V = m / rho0, spiky: grad c, 1/m)
+//   A_i = max(|g_i| - g0 / d, 0),      n_i = -g_i / |g_i| (outward)
+//   a_i = -sigma kappa_i delta_i n_i / rho0
+// with both factors measured, not calibrated (docs/surface_tension.md, item
+// 20, and item 19 for what each choice below fixed):
+//  - kappa from the surface's own geometry: on a sphere of radius R,
+//    (n_i - n_j) . x_ij = |x_ij|^2 / R, so over the band's neighbours, in
+//    least squares, kappa_i = 2 sum W (nb_i - nb_j) . x_ij / sum W |x_ij,t|^2
+//    (poly6 W; x_ij,t the part of x_ij across nb_i: a neighbour at another
+//    depth adds nothing to the numerator). nb are the normals averaged over
+//    the band's neighbours, the particle's own left out: a particle's own
+//    n follows its offset from its neighbours, and with it kappa read the
+//    particle-scale roughness of a surface without viscosity (3 times 2 / R
+//    on the Rayleigh drop). kappa is then averaged over the band (weights
+//    W A).
+//  - delta_i = A_i / D_i, D_i = sum_j V A_j w2(|x_ij,t|) (self included, w2
+//    the 2D poly6 4 (h^2 - r^2)^3 / (pi h^8) of the distance across n_i):
+//    the band's column integral of A through x_i, so that delta integrates
+//    to one across the surface at any resolution and curvature.
+//  - the band lies a depth e inside the interface (the particles' volume
+//    ends half a spacing beyond the outer layer): the jump acts on the
+//    interface's area, (R / r)^2 times the band's, so the force's kappa is
+//    2 R / r^2 = kappa (1 + kappa e / 2) (kept in [0.5, 1.5]: a lone
+//    particle's kappa ~ 1 / d says nothing of an interface).
+// The walls and solids are not counted in g: a layer on a wall reads as
+// flat there (kappa ~ 0, no force) and the adhesion wets it.
+// SolverConstants: surfaceTension sigma (N/m), surfaceFloor g0 / d (1/m),
+// surfaceOffset e (m).
 
-// The term of neighbour j of g_i = grad c at x_i: V grad W_ij. (V as
-// m / rho0 rounded once, and the roundings below, as in the calibration's
-// experiment, docs/surface_tension.md item 9: its figures are reproduced
-// bit for bit.)
+// The term of neighbour j of g_i = grad c at x_i: V grad W_ij.
 PBF_HD inline Vec3 colourGradientTerm(const SolverConstants& c, const Vec3& rij) {
     return c.spiky.gradient(rij, length(rij)) * (c.particleMass / c.restDensity);
 }
 
-// T_i from g_i: a tension sigma_css (|g| - floor) in the plane normal to g,
-// none along it; zero at or below the floor (and for a g that is not finite).
-PBF_HD inline Sym3 surfaceStressOfGradient(const SolverConstants& c, const Vec3& g) {
+// A_i: how far |g_i| is above the band's floor (0 off the band, and for a
+// g that is not finite).
+PBF_HD inline float surfaceBandWeight(const SolverConstants& c, const Vec3& g) {
     const float n = std::sqrt(lengthSquared(g));
-    if (!(n > c.surfaceStressFloor)) return {};
-    const float n2 = n * n;
-    const float s = c.surfaceStress * (n - c.surfaceStressFloor) / n2;
-    return {s * (n2 - g.x * g.x), s * (n2 - g.y * g.y), s * (n2 - g.z * g.z),
-            -s * g.x * g.y,       -s * g.x * g.z,       -s * g.y * g.z};
+    return n > c.surfaceFloor ? n - c.surfaceFloor : 0.0f;
 }
 
-// The walls' and solids' share of g_i: the boundary counted as the rest
-// lattice continued beyond its surface, the density constraint's boundary
-// gradient (boundary::addWallContribution / addSolidContribution,
-// WallTable::gradientSum, pointing into the boundary as g's pair terms
-// point to their neighbours), times V. Without it a particle on a wall
-// reads the missing water beyond it as a free surface.
-PBF_HD inline Vec3 boundaryColourGradient(const SolverConstants& c, const Vec3& boundaryGradient) {
-    return boundaryGradient * (c.particleMass / c.restDensity);
+// n_i = -g_i / |g_i|, outward (g points into the liquid); only on the band.
+PBF_HD inline Vec3 outwardNormal(const Vec3& g) {
+    return g * (-1.0f / std::sqrt(lengthSquared(g)));
 }
 
-// T_i beside a wall or solid: the liquid-vapour tension from g_p + g_b (the
-// boundary is water for the free surface's colour: on a thick drop's
-// wetted layer the two cancel) plus the liquid-solid interface's own,
-// sigma_css max(|g_b| - floor, 0) (I - m m), m = g_b / |g_b|, in the
-// boundary's plane. So a film on the boundary pays for both of its
-// interfaces (with the particles' g alone a layer thinner than h has
-// |g| ~ 0 and spreads for free; with the wall only as water the wetted
-// area costs nothing and the adhesion alone spreads the drop); the
-// adhesion's work 2 a sigma is then set against them as Young-Dupre has it
-// (docs/surface_tension.md, item 11). Away from the boundaries g_b = 0 and
-// T is surfaceStressOfGradient(g_p) exactly.
-PBF_HD inline Sym3 surfaceStressNearBoundary(const SolverConstants& c, const Vec3& particles,
-                                             const Vec3& boundary) {
-    return surfaceStressOfGradient(c, particles + boundary) + surfaceStressOfGradient(c, boundary);
+// The term of band neighbour j of the averaged normal: W_ij A_j n_j.
+PBF_HD inline Vec3 bandNormalTerm(const SolverConstants& c, const Vec3& rij, const Vec3& gj) {
+    return outwardNormal(gj) * (c.poly6.value(lengthSquared(rij)) * surfaceBandWeight(c, gj));
 }
 
-// The term of neighbour j of the pair sum (T_i + T_j) grad W_ij (N/m^5);
-// equal and opposite for the pair (grad W_ji = -grad W_ij).
-PBF_HD inline Vec3 surfaceStressPairTerm(const SolverConstants& c, const Sym3& stressI,
-                                         const Sym3& stressJ, const Vec3& rij) {
-    return (stressI + stressJ) * c.spiky.gradient(rij, length(rij));
+// The least-squares curvature's sums over the band's neighbours: the
+// numerator sum W (nb_i - nb_j) . x_ij, and sum W |x_ij,t|^2 and
+// sum W |x_ij|^2.
+struct CurvatureSums {
+    float slope = 0.0f;
+    float across = 0.0f;
+    float total = 0.0f;
+};
+PBF_HD inline void addCurvatureTerm(const SolverConstants& c, const Vec3& rij, const Vec3& nbI,
+                                    const Vec3& nbJ, CurvatureSums& sums) {
+    const float r2 = lengthSquared(rij);
+    const float w = c.poly6.value(r2);
+    const float along = dot(nbI, rij);
+    sums.slope += w * dot(nbI - nbJ, rij);
+    sums.across += w * (r2 - along * along);
+    sums.total += w * r2;
+}
+// kappa_i (1/m) from the sums: a particle whose neighbours lie along its
+// normal (a tip, spray) has no spread across it to fit over; half the full
+// sum stands in for it there.
+PBF_HD inline float curvatureOf(const CurvatureSums& sums) {
+    const float across = sums.across > 0.5f * sums.total ? sums.across : 0.5f * sums.total;
+    return across > 0.0f ? 2.0f * sums.slope / across : 0.0f;
 }
 
-// dt a_i from the summed pair terms: times dt m / rho0^2 (dt = 1: a_i).
-PBF_HD inline Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt,
-                                               const Vec3& pairSum) {
-    return (dt * c.particleMass / (c.restDensity * c.restDensity)) * pairSum;
+// The 2D poly6 of the distance across n_i (the column integral's weight),
+// 1/m^2; 0 beyond h.
+PBF_HD inline float columnWeight(const SolverConstants& c, const Vec3& rij, const Vec3& ni) {
+    const float along = dot(rij, ni);
+    const float d = c.h * c.h - (lengthSquared(rij) - along * along);
+    if (!(d > 0.0f)) return 0.0f;
+    const float h2 = c.h * c.h;
+    return 4.0f / (3.14159265f * h2 * h2 * h2 * h2) * d * d * d;
+}
+
+// a_i from the band-averaged kappa, A_i and the column sum D_i (m^-1):
+// -sigma kappa_f (A_i / D_i) n_i / rho0 (dt = 1: the acceleration).
+PBF_HD inline Vec3 curvatureForceVelocityChange(const SolverConstants& c, float dt, const Vec3& gi,
+                                                float kappa, float columnSum) {
+    const float weight = surfaceBandWeight(c, gi);
+    if (!(weight > 0.0f) || !(columnSum > 0.0f)) return {};
+    float scale = 1.0f + 0.5f * kappa * c.surfaceOffset;
+    scale = scale < 0.5f ? 0.5f : (scale > 1.5f ? 1.5f : scale);
+    return outwardNormal(gi) *
+           (-dt * c.surfaceTension * kappa * scale * (weight / columnSum) / c.restDensity);
 }
 
 // ---- Physical viscosity (an addition to the paper) ---------------------------

@@ -199,40 +199,79 @@ PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, flo
     return a;
 }
 
-// The continuum surface stress (equations.hpp, "Continuum surface
-// stress"): T_i from g_i = grad c at the positions x (the end-of-step x*),
-// the walls' and solids' share included (`solids` may be null). Every
-// particle's T is computed before any acceleration (a pre-pass).
-// T_i at x_i from g, the sum of its neighbours' colourGradientTerm: the
-// walls' and solids' share added here (the CPU's SIMD pass sums g itself).
-template <class Solids>
-PBF_HD Sym3 surfaceStressFromNeighborGradient(const SolverConstants& c, const Solids* solids,
-                                              const Vec3& xi, const Vec3& g) {
-    return surfaceStressNearBoundary(
-        c, g, boundaryColourGradient(c, boundaryTerms(c, solids, xi).gradient));
-}
+// The curvature force (equations.hpp, "Curvature force"), in four passes
+// over the positions x (the end-of-step x*), each reading the previous
+// pass's field at the neighbours: g, the band's averaged normals nb, kappa,
+// then the force. Every particle's field is computed before the next pass
+// (on MPI the ghosts' come from their owners between the passes).
 
-template <class Solids, class Neighbors, class Positions>
-PBF_HD Sym3 surfaceStressOf(const SolverConstants& c, const Solids* solids,
-                            const Neighbors& neighbors, const Positions& x, std::uint32_t i) {
+// g_i = sum_j colourGradientTerm.
+template <class Neighbors, class Positions>
+PBF_HD Vec3 colourGradientOf(const SolverConstants& c, const Neighbors& neighbors,
+                             const Positions& x, std::uint32_t i) {
     const Vec3 xi = x(i);
     Vec3 g{};
     neighbors([&](std::uint32_t j) { g += colourGradientTerm(c, xi - x(j)); });
-    return surfaceStressFromNeighborGradient(c, solids, xi, g);
+    return g;
 }
 
-// Its velocity change dt a_i, a_i = sum_j m (T_i + T_j) / rho0^2 . grad W_ij,
-// from the stresses T of particle i and its neighbours (dt = 1: a_i).
-template <class Neighbors, class Positions, class Stresses>
-PBF_HD Vec3 surfaceStressVelocityChangeOf(const SolverConstants& c, float dt,
-                                          const Neighbors& neighbors, const Positions& x,
-                                          const Stresses& stress, std::uint32_t i) {
+// nb_i: the band neighbours' normals averaged (weights W A, the particle's
+// own left out; its own n where no neighbour is on the band); 0 off the band.
+template <class Neighbors, class Positions, class Gradients>
+PBF_HD Vec3 bandNormalOf(const SolverConstants& c, const Neighbors& neighbors, const Positions& x,
+                         const Gradients& g, std::uint32_t i) {
+    const Vec3 gi = g(i);
+    if (!(surfaceBandWeight(c, gi) > 0.0f)) return {};
     const Vec3 xi = x(i);
-    const Sym3 stressI = stress(i);
     Vec3 sum{};
-    neighbors(
-        [&](std::uint32_t j) { sum += surfaceStressPairTerm(c, stressI, stress(j), xi - x(j)); });
-    return surfaceStressVelocityChange(c, dt, sum);
+    neighbors([&](std::uint32_t j) {
+        const Vec3 gj = g(j);
+        if (surfaceBandWeight(c, gj) > 0.0f) sum += bandNormalTerm(c, xi - x(j), gj);
+    });
+    const float length2 = lengthSquared(sum);
+    return length2 > 0.0f ? sum * (1.0f / std::sqrt(length2)) : outwardNormal(gi);
+}
+
+// kappa_i (1/m) from the band neighbours' nb; 0 off the band.
+template <class Neighbors, class Positions, class Gradients, class Normals>
+PBF_HD float curvatureOf(const SolverConstants& c, const Neighbors& neighbors, const Positions& x,
+                         const Gradients& g, const Normals& nb, std::uint32_t i) {
+    if (!(surfaceBandWeight(c, g(i)) > 0.0f)) return 0.0f;
+    const Vec3 xi = x(i);
+    const Vec3 nbI = nb(i);
+    CurvatureSums sums;
+    neighbors([&](std::uint32_t j) {
+        if (surfaceBandWeight(c, g(j)) > 0.0f) addCurvatureTerm(c, xi - x(j), nbI, nb(j), sums);
+    });
+    return curvatureOf(sums);
+}
+
+// dt a_i: kappa averaged over the band (weights W A, self included), the
+// column sum D_i, then curvatureForceVelocityChange; 0 off the band.
+template <class Neighbors, class Positions, class Gradients, class Curvatures>
+PBF_HD Vec3 curvatureForceVelocityChangeOf(const SolverConstants& c, float dt,
+                                           const Neighbors& neighbors, const Positions& x,
+                                           const Gradients& g, const Curvatures& kappa,
+                                           std::uint32_t i) {
+    const Vec3 gi = g(i);
+    const float weightI = surfaceBandWeight(c, gi);
+    if (!(weightI > 0.0f)) return {};
+    const Vec3 xi = x(i);
+    const Vec3 ni = outwardNormal(gi);
+    const float volume = c.particleMass / c.restDensity;
+    float kappaSum = c.poly6.value(0.0f) * weightI * kappa(i);
+    float kappaWeight = c.poly6.value(0.0f) * weightI;
+    float column = volume * weightI * columnWeight(c, Vec3{}, ni);
+    neighbors([&](std::uint32_t j) {
+        const float weightJ = surfaceBandWeight(c, g(j));
+        if (!(weightJ > 0.0f)) return;
+        const Vec3 rij = xi - x(j);
+        const float w = c.poly6.value(lengthSquared(rij)) * weightJ;
+        kappaSum += w * kappa(j);
+        kappaWeight += w;
+        column += volume * weightJ * columnWeight(c, rij, ni);
+    });
+    return curvatureForceVelocityChange(c, dt, gi, kappaSum / kappaWeight, column);
 }
 
 }  // namespace pbf::reference

@@ -78,16 +78,26 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                             index(i));
 }
 
-Sym3 surfaceStress(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
-                   NeighborIndices neighbors, std::size_t i) {
-    return surfaceStressOf(c, solids, ListNeighbors{neighbors}, Array{x}, index(i));
+Vec3 colourGradient(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                    std::size_t i) {
+    return colourGradientOf(c, ListNeighbors{neighbors}, Array{x}, index(i));
 }
 
-Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
-                                 std::span<const Sym3> stress, NeighborIndices neighbors,
-                                 std::size_t i) {
-    return surfaceStressVelocityChangeOf(c, dt, ListNeighbors{neighbors}, Array{x}, Array{stress},
-                                         index(i));
+Vec3 bandNormal(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> g,
+                NeighborIndices neighbors, std::size_t i) {
+    return bandNormalOf(c, ListNeighbors{neighbors}, Array{x}, Array{g}, index(i));
+}
+
+float curvature(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> g,
+                std::span<const Vec3> nb, NeighborIndices neighbors, std::size_t i) {
+    return curvatureOf(c, ListNeighbors{neighbors}, Array{x}, Array{g}, Array{nb}, index(i));
+}
+
+Vec3 curvatureForceVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
+                                  std::span<const Vec3> g, std::span<const float> kappa,
+                                  NeighborIndices neighbors, std::size_t i) {
+    return curvatureForceVelocityChangeOf(c, dt, ListNeighbors{neighbors}, Array{x}, Array{g},
+                                          Array{kappa}, index(i));
 }
 
 }  // namespace pbf::reference

@@ -58,15 +58,17 @@ SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAd
                                           std::span<const float> rho, NeighborIndices neighbors,
                                           std::size_t i);
 
-// The continuum surface stress T_i at the positions x (surfaceStressOf;
-// `solids` may be null).
-Sym3 surfaceStress(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
-                   NeighborIndices neighbors, std::size_t i);
-
-// Its velocity change dt a_i of particle i from the stresses of all
-// particles (surfaceStressVelocityChangeOf; dt = 1: a_i).
-Vec3 surfaceStressVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
-                                 std::span<const Sym3> stress, NeighborIndices neighbors,
-                                 std::size_t i);
+// The curvature force's four passes at the positions x (neighbor_sums.hpp):
+// g_i, the band's averaged normal nb_i, kappa_i, and the velocity change
+// dt a_i (dt = 1: a_i), each from the previous pass's field of all particles.
+Vec3 colourGradient(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                    std::size_t i);
+Vec3 bandNormal(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> g,
+                NeighborIndices neighbors, std::size_t i);
+float curvature(const SolverConstants& c, std::span<const Vec3> x, std::span<const Vec3> g,
+                std::span<const Vec3> nb, NeighborIndices neighbors, std::size_t i);
+Vec3 curvatureForceVelocityChange(const SolverConstants& c, float dt, std::span<const Vec3> x,
+                                  std::span<const Vec3> g, std::span<const float> kappa,
+                                  NeighborIndices neighbors, std::size_t i);
 
 }  // namespace pbf::reference

@@ -209,16 +209,23 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
                 reactions->add(i, a.solid, predicted_[i], (dt * dt) * a.solidAcceleration);
         }
     }
-    // The continuum surface stress (equations.hpp): every T_i first, then
-    // the pair force, v += dt a after the cohesion, at x*.
-    if (c.surfaceStress > 0.0f) {
-        surfaceStress_.resize(n);
+    // The curvature force (equations.hpp): g, nb and kappa of every
+    // particle in turn, then v += dt a after the cohesion, at x*.
+    if (c.surfaceTension > 0.0f) {
+        colourGradient_.resize(n);
+        bandNormal_.resize(n);
+        curvature_.resize(n);
         for (std::size_t i = 0; i < n; ++i)
-            surfaceStress_[i] =
-                reference::surfaceStress(c, solids, predicted_, grid_.neighbors(i), i);
+            colourGradient_[i] = reference::colourGradient(c, predicted_, grid_.neighbors(i), i);
         for (std::size_t i = 0; i < n; ++i)
-            velocity_[i] += reference::surfaceStressVelocityChange(
-                c, dt, predicted_, surfaceStress_, grid_.neighbors(i), i);
+            bandNormal_[i] =
+                reference::bandNormal(c, predicted_, colourGradient_, grid_.neighbors(i), i);
+        for (std::size_t i = 0; i < n; ++i)
+            curvature_[i] = reference::curvature(c, predicted_, colourGradient_, bandNormal_,
+                                                 grid_.neighbors(i), i);
+        for (std::size_t i = 0; i < n; ++i)
+            velocity_[i] += reference::curvatureForceVelocityChange(
+                c, dt, predicted_, colourGradient_, curvature_, grid_.neighbors(i), i);
     }
     // Restitution and friction on the walls and solids, then x = x* (l. 23).
     for (std::size_t i = 0; i < n; ++i) {
@@ -244,9 +251,10 @@ std::size_t ReferenceBackend::bufferBytes() const {
     std::size_t vectors = position_.capacity() + predicted_.capacity() + corrected_.capacity() +
                           velocity_.capacity() + postVelocity_.capacity() + vorticity_.capacity() +
                           predictedVelocity_.capacity() + solveAcceleration_.capacity() +
-                          viscosityAcceleration_.capacity();
-    return sizeof(Vec3) * vectors + sizeof(float) * (density_.capacity() + lambda_.capacity()) +
-           sizeof(Sym3) * surfaceStress_.capacity();
+                          viscosityAcceleration_.capacity() + colourGradient_.capacity() +
+                          bandNormal_.capacity();
+    return sizeof(Vec3) * vectors +
+           sizeof(float) * (density_.capacity() + lambda_.capacity() + curvature_.capacity());
 }
 
 BackendDiagnostics ReferenceBackend::diagnostics() const {

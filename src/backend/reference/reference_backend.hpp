@@ -14,7 +14,6 @@
 
 #include "backend/host_backend.hpp"
 #include "backend/reference/neighbor_grid.hpp"
-#include "core/sym3.hpp"
 
 namespace pbf {
 
@@ -42,7 +41,9 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> predictedVelocity_;      // v + dt g, before the iterations
     std::vector<Vec3> solveAcceleration_;      // warm start: the last substep's, then this one's
     std::vector<Vec3> viscosityAcceleration_;  // physical viscosity: nu lap v of this substep
-    std::vector<Sym3> surfaceStress_;          // T_i of the continuum surface stress
+    std::vector<Vec3> colourGradient_;         // g_i of the curvature force
+    std::vector<Vec3> bandNormal_;             // nb_i
+    std::vector<float> curvature_;             // kappa_i
     std::vector<float> density_;
     std::vector<float> lambda_;
 };

@@ -107,18 +107,18 @@ TEST_P(DeviceVsReference, PhysicalViscosityStageMatchesTheReference) {
               kViscosityAgreement);
 }
 
-// The continuum surface stress's two kernels (T, then the force) against
-// the reference's sums within the bound of stage_agreement.hpp
-// (surfaceStressDeviation), with surface tension's constants.
-TEST_P(DeviceVsReference, SurfaceStressKernelsMatchTheReference) {
+// The curvature force's four kernels (g, nb, kappa, then the force)
+// against the reference's sums within stage_agreement.hpp's agreement
+// (curvatureForceDeviation), with surface tension's constants.
+TEST_P(DeviceVsReference, CurvatureForceKernelsMatchTheReference) {
     PBF_REQUIRE_DEVICE();
     const Case& param = GetParam();
     const Cloud cloud = param.make(param.count);
     const SolverConstants cs = surfaceTensionConstants(cloud);
     const std::vector<Vec3> x = startPositions(cloud);
     const gpu::StageOutputs out = runCloudStages(cloud, x);
-    ASSERT_EQ(out.surfaceStressAcceleration.size(), x.size());
-    EXPECT_LE(surfaceStressDeviation(cloud, cs, out.xStar, out.surfaceStressAcceleration), 1.0);
+    ASSERT_EQ(out.curvatureAcceleration.size(), x.size());
+    EXPECT_LE(curvatureForceDeviation(cloud, cs, out.xStar, out.curvatureAcceleration), 1.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Clouds, DeviceVsReference,

@@ -180,16 +180,16 @@ TEST_P(SimdVsReference, PhysicalViscosityStageMatchesTheReference) {
               kViscosityAgreement);
 }
 
-// The continuum surface stress: the CPU's two stages (T for every
-// particle, then the force) against the reference's sums within the bound
-// derived in stage_agreement.hpp (surfaceStressDeviation). Catches a term
-// dropped (T_j, or the pair's gradient), a wrong sign or scale, the floor
-// misapplied, or a stress pass that read another particle's neighbours.
-TEST_P(SimdVsReference, SurfaceStressStagesMatchTheReference) {
+// The curvature force: the CPU's four passes (g, nb, kappa, then the
+// force) against the reference's sums within stage_agreement.hpp's
+// agreement (curvatureForceDeviation). Catches a pass dropped or run out of
+// order, a field read from the wrong pass, a wrong sign or scale, or a pass
+// that read another particle's neighbours.
+TEST_P(SimdVsReference, CurvatureForceStagesMatchTheReference) {
     const Case& param = GetParam();
     const Cloud cloud = param.make(param.count);
     const SolverConstants c = surfaceTensionConstants(cloud);
-    ASSERT_GT(c.surfaceStress, 0.0f);
+    ASSERT_GT(c.surfaceTension, 0.0f);
     const std::size_t n = cloud.predicted.size();
     ParticleStore p;
     for (std::size_t i = 0; i < n; ++i) p.add(cloud.predicted[i], {}, c.restDensity);
@@ -200,24 +200,33 @@ TEST_P(SimdVsReference, SurfaceStressStagesMatchTheReference) {
     search.buildNeighborLists(p.predicted);
     std::vector<PackedPoint> predicted(n);
     stages::packPositions(p.predicted, predicted.data(), 0, n);
-    std::vector<Sym3> stress(n);
+    Float3Array gradient, normal;
+    gradient.resize(n);
+    normal.resize(n);
+    std::vector<float> kappa(n);
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeSurfaceStress(c, cloud.solids.get(), search, predicted.data(), stress.data(),
-                                     b, e);
+        stages::computeColourGradient(c, search, predicted.data(), gradient, b, e);
+    });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
+        stages::computeBandNormal(c, search, predicted.data(), gradient, normal, b, e);
+    });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
+        stages::computeCurvature(c, search, predicted.data(), gradient, normal, kappa.data(), b,
+                                 e);
     });
     // v = 0 and a step of 1 s: the stage leaves a itself in v.
     Float3Array velocity;
     velocity.resize(n);
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::applySurfaceStress(c, 1.0f, search, predicted.data(), stress.data(), velocity, b,
-                                   e);
+        stages::applyCurvatureForce(c, 1.0f, search, predicted.data(), gradient, kappa.data(),
+                                    velocity, b, e);
     });
     std::vector<Vec3> xStar(n), a(n);
     for (std::size_t i = 0; i < n; ++i) {
         xStar[i] = p.predicted.get(i);
         a[i] = velocity.get(i);
     }
-    EXPECT_LE(surfaceStressDeviation(cloud, c, xStar, a), 1.0);
+    EXPECT_LE(curvatureForceDeviation(cloud, c, xStar, a), 1.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Clouds, SimdVsReference,

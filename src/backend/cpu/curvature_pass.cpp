@@ -1,0 +1,82 @@
+// The curvature force's four passes on the CPU (equations.hpp, "Curvature
+// force"): the reference's per-particle sums (neighbor_sums.hpp) over the
+// solver's neighbour lists and packed x*, so that the CPU, the reference
+// and the device backends compute the same terms in the same order.
+#include <cstddef>
+#include <cstdint>
+
+#include "backend/cpu/solver_stages.hpp"
+#include "backend/reference/neighbor_sums.hpp"
+
+namespace pbf::stages {
+namespace {
+
+// A neighbour list as neighbor_sums.hpp visits it.
+struct ListNeighbors {
+    NeighborList list;
+    template <class Visit>
+    void operator()(Visit&& visit) const {
+        for (std::size_t k = 0; k < list.size(); ++k) visit(list[k]);
+    }
+};
+
+struct PackedPositions {
+    const PackedPoint* records;
+    Vec3 operator()(std::uint32_t j) const { return {records[j].x, records[j].y, records[j].z}; }
+};
+
+struct VectorField {
+    const Float3Array* values;
+    Vec3 operator()(std::uint32_t j) const { return values->get(j); }
+};
+
+struct ScalarField {
+    const float* values;
+    float operator()(std::uint32_t j) const { return values[j]; }
+};
+
+std::uint32_t index(std::size_t i) {
+    return static_cast<std::uint32_t>(i);
+}
+
+}  // namespace
+
+void computeColourGradient(const SolverConstants& c, const NeighborSearch& search,
+                           const PackedPoint* predicted, Float3Array& gradient, std::size_t begin,
+                           std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        gradient.set(i, reference::colourGradientOf(c, ListNeighbors{search.neighbors(i)},
+                                                    PackedPositions{predicted}, index(i)));
+}
+
+void computeBandNormal(const SolverConstants& c, const NeighborSearch& search,
+                       const PackedPoint* predicted, const Float3Array& gradient,
+                       Float3Array& normal, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        normal.set(i, reference::bandNormalOf(c, ListNeighbors{search.neighbors(i)},
+                                              PackedPositions{predicted}, VectorField{&gradient},
+                                              index(i)));
+}
+
+void computeCurvature(const SolverConstants& c, const NeighborSearch& search,
+                      const PackedPoint* predicted, const Float3Array& gradient,
+                      const Float3Array& normal, float* curvature, std::size_t begin,
+                      std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        curvature[i] = reference::curvatureOf(c, ListNeighbors{search.neighbors(i)},
+                                              PackedPositions{predicted}, VectorField{&gradient},
+                                              VectorField{&normal}, index(i));
+}
+
+void applyCurvatureForce(const SolverConstants& c, float dt, const NeighborSearch& search,
+                         const PackedPoint* predicted, const Float3Array& gradient,
+                         const float* curvature, Float3Array& velocity, std::size_t begin,
+                         std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+        velocity.set(i, velocity.get(i) + reference::curvatureForceVelocityChangeOf(
+                                              c, dt, ListNeighbors{search.neighbors(i)},
+                                              PackedPositions{predicted}, VectorField{&gradient},
+                                              ScalarField{curvature}, index(i)));
+}
+
+}  // namespace pbf::stages
