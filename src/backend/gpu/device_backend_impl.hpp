@@ -15,7 +15,7 @@
 //   correct_positions (Jacobi)                                 l. 8-19
 //   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
 //   [physical_viscosity], vorticity_confinement, [surface_tension,
-//   surface_stress, surface_stress_force],
+//   curvature_force (its four kernels)],
 //   boundary_response (x = x*)                                 l. 20-24
 // The particle fields come from the one list (include/pbf/core/particle_fields.hpp):
 // DeviceParticles has a member per field, and upload, download, append and
