@@ -110,8 +110,9 @@ echo "over TCP (loopback), 2 ranks: $(same_frames "$work/pour1" "$work/pour_tcp"
 
 # Surface tension with adhesion on the walls and a solid: the cohesion's pass
 # reads the ghosts' x* and densities (exchanged for the density constraint
-# already); the continuum surface stress exchanges the ghosts' T (computed by
-# their owners: a ghost's own neighbourhood is incomplete).
+# already); the curvature force exchanges the ghosts' g, band normals and
+# kappa between its passes (computed by their owners: a ghost's own
+# neighbourhood is incomplete).
 tension=(run "$src/tests/data/mpi_surface_tension.json" -q --no-plot --render none
          --checkpoint-every 0 --checkpoint-seconds 0)
 "$pbf" "${tension[@]}" --out "$work/tension1" > /dev/null
