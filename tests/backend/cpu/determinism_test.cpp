@@ -90,9 +90,10 @@ TEST(Determinism, AccuracyOptionsGiveIdenticalBitsOnOneAndTwoThreads) {
     ASSERT_EQ(one.solveAcceleration.x.size(), one.size()) << "the warm start kept nothing";
 }
 
-// Surface tension (its SIMD pass reads x* and the densities of the
-// neighbours and writes each particle's velocity) with adhesion on the
-// domain walls: the dam break's surface particles pull, and the floor and
+// Surface tension (the cohesion's SIMD pass reads x* and the densities of
+// the neighbours, the curvature force's four passes each the previous
+// pass's field, and both write each particle's velocity) with adhesion on
+// the domain walls: the dam break's surface particles pull, and the floor and
 // walls pull back. The coarse dam break's spacing makes the capillary time
 // step long, so the fixed 1/240 s steps are within it.
 TEST(Determinism, SurfaceTensionGivesIdenticalBitsOnOneAndTwoThreads) {
