@@ -74,10 +74,6 @@ std::size_t deviceBytesPerParticle(const SimulationParams& params, bool rigidBod
     return gpu::bytesPerParticle(params, rigidBodies);
 }
 
-std::size_t deviceCellTableBytes(const SimulationParams& params) {
-    return gpu::cellTableBytes(params);
-}
-
 std::unique_ptr<Backend> makeBackend(BackendKind kind, const SimulationParams& params,
                                      const BackendOptions& options) {
     switch (kind) {

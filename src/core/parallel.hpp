@@ -9,7 +9,21 @@
 #include "core/blocks.hpp"
 #include "pbf/core/threading.hpp"
 
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
 namespace pbf::detail {
+
+// The calling thread's number inside a parallel loop (0 outside): an index
+// into per-thread scratch sized by threadCount().
+inline int threadIndex() {
+#if defined(_OPENMP)
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
 
 // Calls fn(begin, end) over [0, n) in blocks of `blockSize`, in parallel.
 // Each index is visited exactly once; fn must write only the entries of its

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/grid_limits.hpp"
+#include "core/cell_key.hpp"
 #include "pbf/core/param_table.hpp"
 
 namespace pbf {
@@ -19,13 +19,17 @@ std::string validate(const SimulationParams& p) {
     if (2.0f * p.kernelRadius() > minExtent)
         return "particle_radius: the domain must be at least two kernel radii (" +
                std::to_string(p.solver.kernelRadiusFactor) + " r each) wide on every axis";
+    // Only occupied cells are stored, so the domain's size is limited by the
+    // cell key alone: 2^21 cells of the kernel radius a side.
     const double h = p.kernelRadius();
-    const double cells = std::ceil(e.x / h) * std::ceil(e.y / h) * std::ceil(e.z / h);
-    if (cells > double(kMaxGridCells))
-        return "particle_radius: the domain holds " +
-               std::to_string(static_cast<long long>(cells)) +
-               " grid cells of the kernel radius, more than the limit of " +
-               std::to_string(kMaxGridCells) + "; use larger particles or a smaller domain";
+    const double widest = std::fmax(e.x, std::fmax(e.y, e.z));
+    cell_key::CellFrame frame;
+    if (!cell_key::domainFrame(p.domain, p.kernelRadius(), frame))
+        return "particle_radius: the domain is " +
+               std::to_string(static_cast<long long>(std::ceil(widest / h))) +
+               " kernel radii wide, more than the cell key's " +
+               std::to_string(cell_key::kCellsPerAxis) +
+               " cells a side; use larger particles or a smaller domain";
     return {};
 }
 

@@ -293,8 +293,7 @@ void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::strin
                        std::size_t availableBytes) {
     const std::size_t particles = countParticles(def);
     const double needed = double(particles) * double(deviceBytesPerParticle(
-                                                  def.simulation, !def.rigidBodies.empty())) +
-                          double(deviceCellTableBytes(def.simulation));
+                                                  def.simulation, !def.rigidBodies.empty()));
     if (needed > double(availableBytes))
         throw SceneError((def.source.empty() ? def.name : def.source) +
                          ": fluid_blocks: " + std::to_string(particles) + " particles need about " +

@@ -163,10 +163,9 @@ struct BackendOptions {
 };
 
 // Device memory the GPU backend needs per particle for these settings
-// (with the reaction records when rigid bodies are coupled), and for the
-// grid's cell table: a World refuses scenes that would not fit.
+// (with the reaction records when rigid bodies are coupled, and the sparse
+// grid): a World refuses scenes that would not fit.
 std::size_t deviceBytesPerParticle(const SimulationParams& params, bool rigidBodies);
-std::size_t deviceCellTableBytes(const SimulationParams& params);
 
 // A backend of `kind` for the fixed part of `params` (domain, particle
 // radius, kernel radius), holding no particles yet.

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "backend/cpu/grid_stencil.hpp"
+#include "backend/cpu/neighbor_lists.hpp"
 #include "backend/cpu/simd-inl.h"
 #include "backend/cpu/simd.hpp"
 
@@ -40,7 +40,7 @@ struct RowTest {
           xi(px[particle]),
           yi(py[particle]),
           zi(pz[particle]),
-          r2max(job.grid.cell * job.grid.cell) {
+          r2max(job.grid.frame.cell * job.grid.frame.cell) {
         const FloatTag d;
         vxi = hn::Set(d, xi);
         vyi = hn::Set(d, yi);
@@ -99,25 +99,28 @@ HWY_INLINE std::size_t collectRow(const RowTest& t, std::uint32_t base, std::uin
 std::size_t CollectBlockLists(const ListJob& job, std::size_t begin, std::size_t end,
                               std::size_t& used) {
     const std::size_t units = job.wide ? 2 : 1;  // 16-bit units per entry
+    std::uint32_t cell = job.firstCell;
     for (std::size_t i = begin; i < end; ++i) {
-        std::uint32_t rowFirst[9], rowLast[9];
-        int rows = 0;
+        while (job.grid.cellStart[cell + 1] <= i) ++cell;
+        std::uint32_t rangeFirst[27], rangeLast[27];
+        int ranges = 0;
         std::size_t candidates = 0;
-        forEachStencilRow(job.grid, {job.px[i], job.py[i], job.pz[i]},
-                          [&](std::uint32_t first, std::uint32_t last) {
-                              rowFirst[rows] = first;
-                              rowLast[rows++] = last;
-                              candidates += last - first;
-                          });
+        forEachStencilRange(job.grid, job.cells[cell - job.firstCell], cell,
+                            {job.px[i], job.py[i], job.pz[i]},
+                            [&](std::uint32_t first, std::uint32_t last) {
+                                rangeFirst[ranges] = first;
+                                rangeLast[ranges++] = last;
+                                candidates += last - first;
+                            });
         // Room for every candidate and a vector's overhang.
         if (units * (used + candidates + simd::kMaxLanes) > job.capacity) return i;
         const RowTest test(job, i);
         const std::size_t before = used;
-        for (int r = 0; r < rows; ++r)
-            used += job.wide
-                        ? collectRow<true>(test, 0, rowFirst[r], rowLast[r], job.entries + 2 * used)
-                        : collectRow<false>(test, job.base, rowFirst[r], rowLast[r],
-                                            job.entries + used);
+        for (int r = 0; r < ranges; ++r)
+            used += job.wide ? collectRow<true>(test, 0, rangeFirst[r], rangeLast[r],
+                                                job.entries + 2 * used)
+                             : collectRow<false>(test, job.base, rangeFirst[r], rangeLast[r],
+                                                 job.entries + used);
         job.listStart[i] = static_cast<std::uint32_t>(units * before);
         job.listCount[i] = static_cast<std::uint32_t>(used - before);
     }

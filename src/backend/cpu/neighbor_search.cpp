@@ -1,75 +1,39 @@
 #include "backend/cpu/neighbor_search.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
-#include "backend/cpu/grid_stencil.hpp"
+#include "backend/cpu/neighbor_lists.hpp"
 #include "backend/cpu/simd.hpp"
 #include "core/parallel.hpp"
+#include "pbf/core/threading.hpp"
 
 namespace pbf {
 
-NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells,
-                               std::uint32_t compactSpan)
-    : domain_(domain),
-      radius_(radius),
-      inverseCell_(1.0f / radius),
-      compactSpan_(std::min<std::uint32_t>(compactSpan, 65536)) {
+NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::uint32_t compactSpan)
+    : compactSpan_(std::min<std::uint32_t>(compactSpan, 65536)) {
     if (!(radius > 0.0f)) throw std::invalid_argument("neighbour search radius must be positive");
-    const Vec3 e = domain.extent();
-    const double cells = std::ceil(double(e.x) / radius) * std::ceil(double(e.y) / radius) *
-                         std::ceil(double(e.z) / radius);
-    if (!(cells <= double(maxCells)))
-        throw std::invalid_argument(
-            "the domain is " + std::to_string(static_cast<long long>(cells)) +
-            " grid cells of the kernel radius, more than the limit of " + std::to_string(maxCells) +
-            "; use a smaller domain or larger particles");
-    // Axes from the shortest extent (fastest, rows) to the longest (see
-    // grid_stencil.hpp); ties keep x, y, z order.
-    const grid::GridView layout = grid::gridLayout(domain, radius);
-    for (int k = 0; k < 3; ++k) {
-        axis_[k] = layout.axis[k];
-        cells_[k] = layout.n[k];
-    }
-    cellCount_ = std::size_t{cells_[0]} * cells_[1] * cells_[2];
-    cellStart_.assign(cellCount_ + 1, 0);
-}
-
-grid::GridView NeighborSearch::gridView() const {
-    return {domain_,
-            radius_,
-            inverseCell_,
-            {axis_[0], axis_[1], axis_[2]},
-            {cells_[0], cells_[1], cells_[2]},
-            cellStart_.data()};
-}
-
-std::uint32_t NeighborSearch::cellIndexOf(const Vec3& p) const {
-    return gridView().cellIndexOf(p);
+    if (!cell_key::domainFrame(domain, radius, frame_))
+        throw std::invalid_argument("the domain is more than " +
+                                    std::to_string(cell_key::kCellsPerAxis) +
+                                    " cells of the kernel radius wide (the cell key's range); "
+                                    "use a smaller domain or larger particles");
+    keyBits_ = cell_key::keyBits(frame_.maxCoordinate + 1);
 }
 
 void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm) {
     const std::size_t n = positions.size();
-    cellOfParticle_.resize(n);
+    keys_.resize(n);
+    sortedKeys_.resize(n);
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i)
-            cellOfParticle_[i] = cellIndexOf(positions.get(i));
+        for (std::size_t i = begin; i < end; ++i) keys_[i] = frame_.keyOf(positions.get(i));
     });
-    // Stable counting sort: particles keep their relative order inside a
-    // cell, so the result is the same whatever the thread count. The starts
-    // serve as the cursors, then move back one cell (no second table).
-    std::fill(cellStart_.begin(), cellStart_.end(), 0u);
-    for (std::size_t i = 0; i < n; ++i) ++cellStart_[cellOfParticle_[i] + 1];
-    for (std::size_t c = 0; c < cellCount_; ++c) cellStart_[c + 1] += cellStart_[c];
-    for (std::size_t i = 0; i < n; ++i)
-        perm[cellStart_[cellOfParticle_[i]]++] = static_cast<std::uint32_t>(i);
-    std::copy_backward(cellStart_.begin(), cellStart_.end() - 1, cellStart_.end());
-    cellStart_[0] = 0;
+    // Stable: particles keep their relative order inside a cell, so the
+    // result is the same whatever the thread count.
+    sort_.sort(keys_.data(), n, keyBits_, sortedKeys_.data(), perm.data());
+    cells_.build(sortedKeys_.data(), n);
 }
 
 void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
@@ -79,31 +43,51 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
     blockCount_ = (n + kListBlockSize - 1) / kListBlockSize;
     if (blocks_.size() < blockCount_) blocks_.resize(blockCount_);
     blockNeighbors_.assign(blockCount_, 0);
+    const grid::SparseGridView grid = gridView();
+    neighborhoods_.resize(static_cast<std::size_t>(std::max(1, threadCount())));
 
     // Each block of particles writes its lists into its own buffer, kept
     // between steps; the lists stay there (no copy into one array). When the
     // indices a block can reach span at most 65536 (most blocks: sorted
     // particles are near their neighbours in memory) the lists store 16-bit
-    // offsets from the lowest, halving their memory. Each row is a contiguous candidate range,
-    // tested a SIMD vector at a time; the indices of the candidates closer than h are compressed
-    // into the list in index order.
+    // offsets from the lowest, halving their memory. Each neighbour cell's
+    // particles are a contiguous candidate range, tested a SIMD vector at a
+    // time; the indices of the candidates closer than h are compressed into
+    // the list in index order.
     detail::parallelForBlocks(n, kListBlockSize, [&](std::size_t begin, std::size_t end) {
         ListBlock& block = blocks_[begin / kListBlockSize];
-        // The stencils of the block's cells (sorted: from the first
-        // particle's to the last one's) reach one slab and one row of cells
-        // beyond them, so its lists index [lowest, highest).
-        const std::size_t reach = std::size_t{cells_[0]} * cells_[1] + cells_[0] + 1;
-        const std::size_t firstCell = cellIndexOf(positions.get(begin));
-        const std::size_t lastCell = cellIndexOf(positions.get(end - 1));
-        const std::uint32_t lowest = cellStart_[firstCell > reach ? firstCell - reach : 0];
-        const std::uint32_t highest = cellStart_[std::min(lastCell + reach + 1, cellCount_)];
+        // The block's cells and their neighbourhoods, once per cell (the
+        // blocks of 4^3 cells around them once per such block).
+        const std::uint32_t firstCell = static_cast<std::uint32_t>(
+            std::upper_bound(cells_.cellStart.begin(), cells_.cellStart.end(),
+                             static_cast<std::uint32_t>(begin)) -
+            cells_.cellStart.begin() - 1);
+        std::vector<grid::CellNeighborhood>& cells =
+            neighborhoods_[static_cast<std::size_t>(detail::threadIndex())];
+        cells.clear();
+        std::uint32_t lowest = static_cast<std::uint32_t>(n), highest = 0;
+        std::int32_t blocks[27];
+        std::uint64_t blockOfBlocks = ~std::uint64_t{0};
+        for (std::uint32_t c = firstCell; c < grid.cellCount && grid.cellStart[c] < end; ++c) {
+            const std::uint64_t blockKey = grid.cellKey[c] >> grid::kBlockShift;
+            if (blockKey != blockOfBlocks) {
+                blockOfBlocks = blockKey;
+                grid::blockNeighborhood(grid, static_cast<std::uint32_t>(grid.findBlock(blockKey)),
+                                        blocks);
+            }
+            grid::CellNeighborhood& nb = cells.emplace_back();
+            grid::cellNeighborhood(grid, c, blocks, nb);
+            lowest = std::min(lowest, grid.cellStart[nb.cell[0]]);
+            highest = std::max(highest, grid.cellStart[nb.cell[nb.count - 1] + 1]);
+        }
         block.wide = highest - lowest > compactSpan_;
         block.base = block.wide ? 0 : lowest;
         const std::size_t units = block.wide ? 2 : 1;  // 16-bit units per entry
         std::size_t used = 0;                          // entries
-        const grid::GridView grid = gridView();
         for (std::size_t i = begin; i < end;) {
             const grid::ListJob job{grid,
+                                    cells.data(),
+                                    firstCell,
                                     positions.x.data(),
                                     positions.y.data(),
                                     positions.z.data(),
@@ -117,11 +101,9 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
             i = grid::collectBlockLists(job, i, end, used);
             if (i == end) break;
             // Particle i's candidates might not fit: grow (rarely, amortised;
-            // reserve first: resize alone may double the capacity).
-            std::size_t candidates = 0;
-            grid::forEachStencilRow(
-                grid, positions.get(i),
-                [&](std::uint32_t first, std::uint32_t last) { candidates += last - first; });
+            // reserve first: resize alone may double the capacity). Its
+            // cell's neighbourhood holds at most all of the block's reach.
+            const std::size_t candidates = highest - lowest;
             const std::size_t needed = units * (used + candidates + simd::kMaxLanes);
             const std::size_t grown = needed + needed / 16 + 1024;
             block.entries.reserve(grown);
@@ -147,9 +129,11 @@ std::size_t NeighborSearch::memoryBytes() const {
     std::size_t blockBytes = 0;
     for (const ListBlock& block : blocks_)
         blockBytes += sizeof(std::uint16_t) * block.entries.capacity();
-    return blockBytes +
-           sizeof(std::uint32_t) * (cellOfParticle_.capacity() + cellStart_.capacity() +
-                                    listStart_.capacity() + listCount_.capacity()) +
+    for (const auto& cells : neighborhoods_)
+        blockBytes += sizeof(grid::CellNeighborhood) * cells.capacity();
+    return blockBytes + cells_.memoryBytes() + sort_.memoryBytes() +
+           sizeof(std::uint64_t) * (keys_.capacity() + sortedKeys_.capacity()) +
+           sizeof(std::uint32_t) * (listStart_.capacity() + listCount_.capacity()) +
            sizeof(std::size_t) * blockNeighbors_.capacity();
 }
 

@@ -1,20 +1,20 @@
-// Neighbour search on a sorted uniform grid (cell size = kernel radius h).
+// Neighbour search on the sparse grid (cell size = kernel radius h).
 //
-// Each step: `sortByCell` computes every particle's cell and a stable
-// counting sort by cell index, giving the permutation that the caller applies
-// with ParticleStore::reorder. After the reorder the particles of cell c are
-// the contiguous range [cellStart(c), cellStart(c + 1)), and
+// Each step: `sortByCell` computes every particle's cell key (a Morton code
+// of its cell, core/cell_key.hpp) and a stable radix sort by key, giving the
+// permutation that the caller applies with ParticleStore::reorder; the
+// occupied cells become a sorted list with start offsets (backend/sparse_grid.hpp).
+// After the reorder the particles of a cell are contiguous, and
 // `buildNeighborLists` collects, for every particle, the indices of all
 // others closer than h (SIMD distance tests) into per-block lists that all
-// solver iterations reuse. Cells are numbered with the domain's shortest
-// axis varying fastest and its longest slowest (src/grid_stencil.hpp): rows
-// along the shortest axis are adjacent in memory, so the 27-cell stencil is
-// read as at most 9 contiguous ranges, and neighbours are near in memory.
+// solver iterations reuse. Each occupied cell finds its neighbour cells once,
+// while the lists of its particles are built. Nothing is sized by the
+// domain: memory and time follow the particles.
 //
-// Positions outside the grid are clamped to its border cells. Clamping is
-// monotone and never moves two points further apart in cell coordinates, so
-// two particles closer than h always land in the same or adjacent cells and
-// the search stays exact for them too.
+// Positions beyond the key's range are clamped to its border cells. Clamping
+// is monotone and never moves two points further apart in cell coordinates,
+// so two particles closer than h always land in the same or adjacent cells
+// and the search stays exact for them too.
 #pragma once
 
 #include <cstddef>
@@ -23,15 +23,13 @@
 #include <span>
 #include <vector>
 
-#include "core/grid_limits.hpp"
+#include "backend/sparse_grid.hpp"
+#include "core/cell_key.hpp"
+#include "core/radix_sort.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/vec3.hpp"
 
 namespace pbf {
-
-namespace grid {
-struct GridView;
-}
 
 // One particle's neighbour list. Compact lists (most of them: the indices a
 // block of sorted particles reaches span fewer than 65536) store 16-bit
@@ -56,33 +54,26 @@ struct NeighborList {
 
 class NeighborSearch {
   public:
-    // Grid over `domain` with cells of edge `radius`. Throws
-    // std::invalid_argument if the grid would need more than `maxCells` cells.
-    // `compactSpan` (tests only) is the widest range of indices a block's
-    // lists may span and still be stored as 16-bit offsets.
-    NeighborSearch(const Aabb& domain, float radius, std::size_t maxCells = kMaxGridCells,
-                   std::uint32_t compactSpan = 65536);
+    // Cells of edge `radius` whose coordinates start at the domain's lowest
+    // corner. Throws std::invalid_argument if the domain is wider than the
+    // cell key holds (2^21 cells a side). `compactSpan` (tests only) is the
+    // widest range of indices a block's lists may span and still be stored
+    // as 16-bit offsets.
+    NeighborSearch(const Aabb& domain, float radius, std::uint32_t compactSpan = 65536);
 
-    float radius() const { return radius_; }
-    std::size_t cellCount() const { return cellCount_; }
-    std::uint32_t cellIndexOf(const Vec3& p) const;
+    float radius() const { return frame_.cell; }
+    const cell_key::CellFrame& frame() const { return frame_; }
+    std::uint64_t keyOf(const Vec3& p) const { return frame_.keyOf(p); }
 
-    // Planes of cells across the slowest-varying axis (the longest): cells
-    // [c * cellsPerPlane(), (c + 1) * cellsPerPlane()) form plane c, so the
-    // particles of consecutive planes are consecutive after the sort (a
-    // distributed run gives each process a slab of planes).
-    std::uint32_t planeCount() const { return cells_[2]; }
-    std::size_t cellsPerPlane() const { return std::size_t{cells_[0]} * cells_[1]; }
-    std::uint32_t planeOf(const Vec3& p) const {
-        return static_cast<std::uint32_t>(cellIndexOf(p) / cellsPerPlane());
-    }
-    // First sorted index of cell c (c <= cellCount()), valid after sortByCell.
-    std::uint32_t cellStart(std::size_t c) const { return cellStart_[c]; }
-
-    // Stable counting sort of the particles by the cell of `positions`.
+    // Stable radix sort of the particles by the cell key of `positions`.
     // Writes perm (new index -> old index); sizes its buffers to the particle
     // count (no allocation once the count stops growing).
     void sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm);
+    // After sortByCell: the cell keys of the particles in sorted order, and
+    // the occupied cells.
+    const std::vector<std::uint64_t>& sortedKeys() const { return sortedKeys_; }
+    std::size_t occupiedCellCount() const { return cells_.cellKey.size(); }
+    grid::SparseGridView gridView() const { return cells_.view(frame_); }
 
     // Builds neighbour lists from positions already ordered by sortByCell.
     void buildNeighborLists(const Float3Array& positions);
@@ -109,18 +100,15 @@ class NeighborSearch {
         bool wide = false;
     };
 
-    // The grid as plain data for the stencil code (src/grid_stencil.hpp).
-    grid::GridView gridView() const;
+    cell_key::CellFrame frame_;
+    int keyBits_;  // key bits a cell of the domain can use (what the sort looks at)
 
-    Aabb domain_;
-    float radius_;
-    float inverseCell_;
-    int axis_[3] = {0, 1, 2};  // fastest to slowest varying in the cell index
-    std::uint32_t cells_[3];   // cells along axis_[k]
-    std::size_t cellCount_;
-
-    std::vector<std::uint32_t> cellOfParticle_;  // cell of each particle, pre-sort order
-    std::vector<std::uint32_t> cellStart_;       // size cellCount + 1
+    std::vector<std::uint64_t> keys_;        // cell key of each particle, pre-sort order
+    std::vector<std::uint64_t> sortedKeys_;  // the same, sorted
+    detail::RadixSort sort_;
+    grid::SparseCells cells_;
+    // Per thread: the neighbourhoods of the cells of the block it works on.
+    std::vector<std::vector<grid::CellNeighborhood>> neighborhoods_;
     // Neighbour lists, per block of particles; particle i's list starts at
     // listStart_[i] (in 16-bit units) in its block's buffer.
     std::uint32_t compactSpan_;

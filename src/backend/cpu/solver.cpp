@@ -32,7 +32,7 @@ bool vorticityOn(const SolverStep& s) {
 }  // namespace
 
 Solver::Solver(const Aabb& domain, float kernelRadius, std::uint32_t compactListSpan)
-    : search_(domain, kernelRadius, kMaxGridCells, compactListSpan) {
+    : search_(domain, kernelRadius, compactListSpan) {
     buildPlan();
 }
 

@@ -70,10 +70,8 @@ StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
 
 // Device memory the backend needs per particle for these settings (the
 // arrays it allocates, the sort's scratch included), with the reaction
-// records when a solid is coupled (rigid bodies); the grid's cell table is
-// extra (cellTableBytes). device_memory.cpp; the backend's diagnostics are
-// tested against it.
+// records when a solid is coupled (rigid bodies) and the sparse grid.
+// device_memory.cpp; the backend's diagnostics are tested against it.
 std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids);
-std::size_t cellTableBytes(const SimulationParams& params);
 
 }  // namespace pbf::gpu

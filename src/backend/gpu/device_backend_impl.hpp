@@ -3,14 +3,15 @@
 // device system; PBF_DEVICE_NAMESPACE names the build). Only Thrust
 // algorithms the CUDA toolkit's CCCL and Debian's Thrust 1.17 share:
 // device_vector, for_each_n, stable_sort_by_key, gather, lower_bound,
-// transform_reduce, copy, fill.
+// transform_reduce, copy, fill, inner_product, unique_copy, reduce_by_key,
+// transform (and, on a GPU, CUB's radix sort).
 //
 // One step (Macklin & Mueller 2013, Algorithm 1) is a StepPlan
 // (backend/step_plan.hpp) with the CPU solver's stage names, each stage a
 // for_each over the particles with a kernel of device_kernels.hpp
 // (DeviceBackend::buildPlan):
 //   predict, warm_start, collide_solids                       l. 1-4
-//   sort_by_cell (keys, stable sort, cell ranges), reorder    l. 5-7
+//   sort_by_cell (keys, stable sort, sparse grid), reorder   l. 5-7
 //   density_and_lambda, [compression_totals, convergence_check],
 //   correct_positions (Jacobi)                                 l. 8-19
 //   record_solve_acceleration, update_velocity, viscosity_and_vorticity,
@@ -36,10 +37,18 @@
 #include <thrust/for_each.h>
 #include <thrust/functional.h>
 #include <thrust/gather.h>
+#include <thrust/inner_product.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/iterator/transform_iterator.h>
+#include <thrust/reduce.h>
 #include <thrust/scan.h>
 #include <thrust/sort.h>
+#include <thrust/transform.h>
 #include <thrust/transform_reduce.h>
+#include <thrust/unique.h>
+#if THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA && !defined(THRUST_CUB_WRAPPED_NAMESPACE)
+#include <cub/device/device_radix_sort.cuh>
+#endif
 
 #include <array>
 #include <chrono>
@@ -376,10 +385,12 @@ class DeviceBackend final : public Backend {
   public:
     DeviceBackend(BackendKind kind, const SimulationParams& params)
         : kind_(kind),
-          grid_(grid::gridLayout(params.domain, params.kernelRadius())),
           sampleSpacing_(0.5f * params.particleRadius),
           sampleMargin_(params.kernelRadius() + 2.0f * params.particleRadius) {
-        cellStart_.resize(std::size_t{grid_.n[0]} * grid_.n[1] * grid_.n[2] + 1);
+        if (!cell_key::domainFrame(params.domain, params.kernelRadius(), frame_))
+            throw std::invalid_argument(
+                "the domain is wider than the cell key's range (2^21 kernel radii)");
+        keyBits_ = cell_key::keyBits(frame_.maxCoordinate + 1);
         buildPlan();
     }
     // The plan's stages refer to this backend.
@@ -649,9 +660,17 @@ class DeviceBackend final : public Backend {
     // The sorted grid at x*, valid right after the sort and the reorder
     // (the lists are built from it, before the iterations move x*).
     SearchGrid searchGrid() const {
-        grid::GridView g = grid_;
-        g.cellStart = raw(cellStart_);
-        return {g, view(p_.predicted), grid_.cell * grid_.cell};
+        const grid::SparseGridView g{frame_,
+                                        raw(cellKey_),
+                                        raw(cellStart_),
+                                        cellCount_,
+                                        raw(blockKey_),
+                                        raw(blockFirstCell_),
+                                        raw(blockMask_),
+                                        blockCount_};
+        return {{g, raw(particleCell_), raw(cellBlock_), raw(blockNeighbors_)},
+                view(p_.predicted),
+                frame_.cell * frame_.cell};
     }
     NeighborLists neighborLists() const { return {raw(listStart_), raw(listIndex_)}; }
 
@@ -983,17 +1002,81 @@ class DeviceBackend final : public Backend {
                    }});
     }
 
-    // Cell keys of x*, the stable sort by cell (ties keep their order, so the
-    // result does not depend on the thread count), and the cell table:
-    // cellStart[c] = first sorted index whose cell is >= c.
+    // Cell keys of x*, the stable sort by cell key (ties keep their order,
+    // so the result does not depend on the thread count), and the sparse
+    // grid (backend/sparse_grid.hpp): the occupied cells with their starts,
+    // each particle's cell, the 4x4x4 blocks with their masks and their 27
+    // neighbouring blocks. Nothing is sized by the domain.
     void sortByCell() {
-        const std::size_t n = p_.size();
-        forEachIndex(n, CellKeyKernel{grid_, p_.predicted.view(), raw(keys_), raw(order_)});
+        const auto n = static_cast<std::uint32_t>(p_.size());
+        forEachIndex(n, CellKeyKernel{frame_, p_.predicted.view(), raw(keys_), raw(order_)});
+        sortKeys(n);
+        if (n == 0) {
+            cellCount_ = blockCount_ = 0;
+            return;
+        }
+        // Occupied cells: the distinct keys, where each starts, whose each particle is.
+        cellCount_ = 1 + static_cast<std::uint32_t>(thrust::inner_product(
+                             thrust::device(scratch_), keys_.begin(), keys_.end() - 1,
+                             keys_.begin() + 1, std::uint32_t{0}, thrust::plus<std::uint32_t>(),
+                             thrust::not_equal_to<std::uint64_t>()));
+        const std::uint32_t cells = cellCount_;
+        cellKey_.resize(cells);
+        cellStart_.resize(cells + 1);
+        thrust::unique_copy(thrust::device(scratch_), keys_.begin(), keys_.end(), cellKey_.begin());
+        thrust::lower_bound(thrust::device(scratch_), keys_.begin(), keys_.end(), cellKey_.begin(),
+                            cellKey_.end(), cellStart_.begin());
+        cellStart_[cells] = n;
+        particleCell_.resize(n);
+        thrust::lower_bound(thrust::device(scratch_), cellKey_.begin(), cellKey_.end(),
+                            keys_.begin(), keys_.end(), particleCell_.begin());
+        // Blocks: each cell's block key, their distinct values with the
+        // cells' bits or'ed, each block's first cell, each cell's block.
+        blockOfCell_.resize(cells);
+        thrust::transform(thrust::device(scratch_), cellKey_.begin(), cellKey_.end(),
+                          blockOfCell_.begin(), BlockOfKey{});
+        blockKey_.resize(cells);
+        blockMask_.resize(cells);
+        const auto ends = thrust::reduce_by_key(
+            thrust::device(scratch_), blockOfCell_.begin(), blockOfCell_.end(),
+            thrust::make_transform_iterator(cellKey_.begin(), BitOfKey{}), blockKey_.begin(),
+            blockMask_.begin(), thrust::equal_to<std::uint64_t>(), thrust::bit_or<std::uint64_t>());
+        blockCount_ = static_cast<std::uint32_t>(ends.first - blockKey_.begin());
+        blockKey_.resize(blockCount_);
+        blockMask_.resize(blockCount_);
+        blockFirstCell_.resize(blockCount_);
+        thrust::lower_bound(thrust::device(scratch_), blockOfCell_.begin(), blockOfCell_.end(),
+                            blockKey_.begin(), blockKey_.end(), blockFirstCell_.begin());
+        cellBlock_.resize(cells);
+        thrust::lower_bound(thrust::device(scratch_), blockKey_.begin(), blockKey_.end(),
+                            blockOfCell_.begin(), blockOfCell_.end(), cellBlock_.begin());
+        blockNeighbors_.resize(std::size_t{27} * blockCount_);
+        forEachIndex(blockCount_,
+                     BlockNeighborhoodKernel{searchGrid().grid.view, raw(blockNeighbors_)});
+    }
+
+    // The stable sort of (key, order) by key. On a GPU CUB's radix sort of
+    // only the key bits the domain's cells use; Thrust's OpenMP system has a
+    // stable merge sort.
+    void sortKeys(std::uint32_t n) {
+#if THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA && !defined(THRUST_CUB_WRAPPED_NAMESPACE)
+        keysAlt_.resize(n);
+        orderAlt_.resize(n);
+        cub::DoubleBuffer<std::uint64_t> keys(raw(keys_), raw(keysAlt_));
+        cub::DoubleBuffer<std::uint32_t> order(raw(order_), raw(orderAlt_));
+        std::size_t bytes = 0;
+        cub::DeviceRadixSort::SortPairs(nullptr, bytes, keys, order, int(n), 0, keyBits_);
+        sortTemp_.resize(bytes);
+        cub::DeviceRadixSort::SortPairs(raw(sortTemp_), bytes, keys, order, int(n), 0, keyBits_);
+        if (keys.Current() != raw(keys_)) {
+            keys_.swap(keysAlt_);
+            order_.swap(orderAlt_);
+        }
+#else
+        (void)n;
         thrust::stable_sort_by_key(thrust::device(scratch_), keys_.begin(), keys_.end(),
                                    order_.begin());
-        thrust::lower_bound(thrust::device(scratch_), keys_.begin(), keys_.end(), indices(),
-                            indices(static_cast<std::uint32_t>(cellStart_.size())),
-                            cellStart_.begin());
+#endif
     }
 
     // Every particle field of the list permuted by the sort's order.
@@ -1021,7 +1104,11 @@ class DeviceBackend final : public Backend {
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
         bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
         bytes += colourGradient_.bytes() + bandNormal_.bytes() + bytesOf(curvature_);
-        bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
+        bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(keysAlt_) +
+                 bytesOf(orderAlt_) + bytesOf(sortTemp_) + bytesOf(particleCell_);
+        bytes += bytesOf(cellKey_) + bytesOf(cellStart_) + bytesOf(blockOfCell_) +
+                 bytesOf(cellBlock_) + bytesOf(blockKey_) + bytesOf(blockMask_) +
+                 bytesOf(blockFirstCell_) + bytesOf(blockNeighbors_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
         for (const ReactionRecords& r : records_)
@@ -1037,7 +1124,8 @@ class DeviceBackend final : public Backend {
     };
 
     BackendKind kind_;
-    grid::GridView grid_;  // the layout; cellStart points into cellStart_ when used
+    cell_key::CellFrame frame_;  // cells of the kernel radius from the domain's corner
+    int keyBits_ = 0;            // key bits those cells use
     float sampleSpacing_;
     float sampleMargin_;
     DeviceParticles p_;
@@ -1052,7 +1140,15 @@ class DeviceBackend final : public Backend {
     // The curvature force's g_i, nb_i and kappa_i, while surface tension is on.
     DeviceFloat3 colourGradient_, bandNormal_;
     DeviceArray<float> curvature_;
-    DeviceArray<std::uint32_t> keys_, order_, cellStart_;
+    // The sort (keys, order; the radix sort's second buffers and scratch)
+    // and the sparse grid (sortByCell).
+    DeviceArray<std::uint64_t> keys_, keysAlt_;
+    DeviceArray<std::uint32_t> order_, orderAlt_;
+    DeviceArray<std::uint8_t> sortTemp_;
+    DeviceArray<std::uint64_t> cellKey_, blockOfCell_, blockKey_, blockMask_;
+    DeviceArray<std::uint32_t> cellStart_, particleCell_, cellBlock_, blockFirstCell_;
+    DeviceArray<std::int32_t> blockNeighbors_;
+    std::uint32_t cellCount_ = 0, blockCount_ = 0;
     DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
     DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices
     DeviceArray<float> gatherFloat_;

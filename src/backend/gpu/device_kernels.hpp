@@ -16,7 +16,7 @@
 #include <cstdint>
 
 #include "backend/boundary.hpp"
-#include "backend/cpu/grid_stencil.hpp"
+#include "backend/sparse_grid.hpp"
 #include "backend/gpu/device_solids.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_sums.hpp"
@@ -51,15 +51,26 @@ struct FloatView {
     PBF_HD float operator()(std::uint32_t i) const { return values[i]; }
 };
 
+// The sparse grid of the step's neighbour search on the device
+// (backend/sparse_grid.hpp), with what the kernels look up per particle:
+// its cell, the cell's block, and each block's 27 neighbouring blocks
+// (found once per block per step).
+struct DeviceGrid {
+    grid::SparseGridView view;
+    const std::uint32_t* particleCell = nullptr;  // cell of each sorted particle
+    const std::uint32_t* cellBlock = nullptr;     // block of each cell
+    const std::int32_t* blockNeighbors = nullptr; // 27 per block (-1: none)
+};
+
 // The neighbours of particle i as the reference's lists would hold them:
-// the particles j != i of the 27 cells around i's cell (grid_stencil.hpp,
-// the CPU backend's walk, rows farther than h skipped) that were closer than
+// the particles j != i of the 27 cells around i's cell (sparse_grid.hpp,
+// the CPU backend's walk, cells farther than h skipped) that were closer than
 // h at the neighbour search (`search`: x* when the grid was built). The
 // iterations then move x*, but the set of pairs stays that of the search,
 // as with the CPU and reference backends' lists; the kernels evaluate the
 // pairs at the current positions (zero beyond h). In increasing index order.
 struct StencilNeighbors {
-    grid::GridView grid;
+    DeviceGrid grid;
     Float3View search;
     float radiusSquared = 0.0f;
     std::uint32_t i = 0;
@@ -67,19 +78,25 @@ struct StencilNeighbors {
     template <class Visit>
     PBF_HD void operator()(Visit&& visit) const {
         const Vec3 xi = search(i);
-        grid::forEachStencilRow(grid, xi, [&](std::uint32_t first, std::uint32_t last) {
-            for (std::uint32_t j = first; j < last; ++j) {
-                if (j == i) continue;
-                if (lengthSquared(xi - search(j)) < radiusSquared) visit(j);
-            }
-        });
+        const std::uint32_t cell = grid.particleCell[i];
+        grid::CellNeighborhood nb;
+        grid::cellNeighborhood(grid.view, cell, grid.blockNeighbors + 27 * grid.cellBlock[cell],
+                               nb);
+        grid::forEachStencilRange(grid.view, nb, cell, xi,
+                                  [&](std::uint32_t first, std::uint32_t last) {
+                                      for (std::uint32_t j = first; j < last; ++j) {
+                                          if (j == i) continue;
+                                          if (lengthSquared(xi - search(j)) < radiusSquared)
+                                              visit(j);
+                                      }
+                                  });
     }
 };
 
 // The grid of the step's neighbour search: walked once per step, to build
 // the lists below.
 struct SearchGrid {
-    grid::GridView grid;
+    DeviceGrid grid;
     Float3View search;
     float radiusSquared = 0.0f;
     PBF_HD StencilNeighbors of(std::uint32_t i) const { return {grid, search, radiusSquared, i}; }
@@ -204,17 +221,33 @@ struct CollideSolidsKernel {
     }
 };
 
-// The cell of x*_i (grid_stencil.hpp's numbering) and the identity
-// permutation, for the stable sort by cell.
+// The cell key of x*_i (core/cell_key.hpp) and the identity permutation,
+// for the stable sort by cell.
 struct CellKeyKernel {
-    grid::GridView grid;
+    cell_key::CellFrame frame;
     Float3View predicted;
-    std::uint32_t* keys = nullptr;
+    std::uint64_t* keys = nullptr;
     std::uint32_t* order = nullptr;
     PBF_HD void operator()(std::uint32_t i) const {
-        keys[i] = grid.cellIndexOf(predicted(i));
+        keys[i] = frame.keyOf(predicted(i));
         order[i] = i;
     }
+};
+
+// The sparse grid's pieces from the sorted keys: a cell key's block, its
+// bit in the block's mask; each block's 27 neighbouring blocks.
+struct BlockOfKey {
+    PBF_HD std::uint64_t operator()(std::uint64_t key) const { return key >> grid::kBlockShift; }
+};
+struct BitOfKey {
+    PBF_HD std::uint64_t operator()(std::uint64_t key) const {
+        return std::uint64_t{1} << (key & 63u);
+    }
+};
+struct BlockNeighborhoodKernel {
+    grid::SparseGridView view;
+    std::int32_t* out = nullptr;
+    PBF_HD void operator()(std::uint32_t b) const { grid::blockNeighborhood(view, b, out + 27 * b); }
 };
 
 // Eq. 1-2 and 8-11: rho_i and lambda_i at the current x*.

@@ -3,7 +3,6 @@
 // so that a scene can be refused before anything is allocated.
 #include <cstdint>
 
-#include "backend/cpu/grid_stencil.hpp"
 #include "backend/gpu/device_backend.hpp"
 
 namespace pbf::gpu {
@@ -14,10 +13,17 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // The state: x, x*, v, rho, id.
     std::size_t bytes = 3 * vec3 + 2 * scalar;
     if (params.solver.warmStart > 0.0f) bytes += vec3;  // the last substep's acceleration
-    // The step's scratch: the corrected x* (Jacobi), lambda, cell keys, the
-    // sort's order, one gather buffer, and the sort's own double buffers
-    // (keys and values).
-    bytes += vec3 + 4 * scalar + 2 * scalar;
+    // The step's scratch: the corrected x* (Jacobi), lambda, one gather
+    // buffer; the sort's 64-bit cell keys and order, its second buffers of
+    // both, and each particle's cell.
+    bytes += vec3 + 2 * scalar;
+    bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t);
+    // The sparse grid (backend/sparse_grid.hpp), planned at a cell per two
+    // particles (water at rest has about eight per cell; spray fewer) and
+    // a 4x4x4 block per eight: per cell its key, start, block key and block;
+    // per block its key, mask, first cell and 27 neighbouring blocks.
+    bytes += (2 * sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t)) / 2;
+    bytes += (2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) + 27 * sizeof(std::int32_t)) / 8;
     // The neighbour lists (device_kernels.hpp, ListNeighbors): an offset and
     // 4 bytes per neighbour, planned at 40 neighbours (water at rest has
     // 26-33 within h = 2 spacings; the dam break averages 28.5, the list
@@ -33,11 +39,6 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // Two slots of reaction records (solid, x, d) for coupled solids.
     if (coupledSolids) bytes += 2 * (scalar + 2 * vec3);
     return bytes;
-}
-
-std::size_t cellTableBytes(const SimulationParams& params) {
-    const grid::GridView g = grid::gridLayout(params.domain, params.kernelRadius());
-    return (std::size_t{g.n[0]} * g.n[1] * g.n[2] + 1) * sizeof(std::uint32_t);
 }
 
 }  // namespace pbf::gpu

@@ -1,8 +1,8 @@
 // The distributed backend: each MPI rank runs the CPU backend's solver on
-// its slab of the grid (backend/mpi/slab_halo.hpp) and answers the World's
+// its range of cell keys (backend/mpi/key_range_halo.hpp) and answers the World's
 // reductions with global reductions. Scene set-up (solids, emitters, rigid
 // bodies) is replicated on every rank by the World; particle files are
-// written by rank 0 from download(), which gathers the slabs in rank order:
+// written by rank 0 from download(), which gathers the ranges in rank order:
 // the one-process memory order.
 #include "backend/mpi/mpi_backend.hpp"
 
@@ -14,7 +14,7 @@
 #include <string>
 
 #include "backend/cpu/solver.hpp"
-#include "backend/mpi/slab_halo.hpp"
+#include "backend/mpi/key_range_halo.hpp"
 #include "backend/reactions.hpp"
 
 namespace pbf {
@@ -49,7 +49,7 @@ class MpiBackend final : public Backend {
     std::size_t size() const override { return std::size_t(total_); }
 
     // Every rank is handed the same particles (the World's emitters run on
-    // every rank); each keeps those in its slab and counts the ids of all.
+    // every rank); each keeps those in its key range and counts the ids of all.
     void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
                 float density) override {
         if (positions.size() != velocities.size())
@@ -156,7 +156,7 @@ class MpiBackend final : public Backend {
     const ParticleStore* hostState() const override { return nullptr; }
     ParticleStore* mutableHostState() override { return nullptr; }
 
-    // Gathers the slabs on rank 0 in rank order (the one-process memory
+    // Gathers the ranges on rank 0 in rank order (the one-process memory
     // order); the other ranks get no particles (only rank 0 writes files).
     void download(ParticleStore& out) const override {
         std::vector<ParticleRecord> mine(store_.size());
@@ -192,19 +192,12 @@ class MpiBackend final : public Backend {
         out = std::move(result);
     }
 
-    // Rank 0's state is split into slabs (balanced for its particles); the
+    // Rank 0's state is cut into key ranges (balanced for its particles); the
     // other ranks' arguments are ignored.
     void upload(ParticleStore state) override {
         unsigned long long header[3] = {state.size(), state.nextId(), state.keptOptionalFields()};
         checkMpi(MPI_Bcast(header, 3, MPI_UNSIGNED_LONG_LONG, 0, comm_), "MPI_Bcast (upload)");
-        const NeighborSearch& grid = solver_.neighborSearch();
-        std::vector<std::uint64_t> counts(grid.planeCount(), 0);
-        if (rank_ == 0)
-            for (std::size_t i = 0; i < state.size(); ++i)
-                ++counts[grid.planeOf(state.predicted.get(i))];
-        checkMpi(MPI_Bcast(counts.data(), int(counts.size()), MPI_UINT64_T, 0, comm_),
-                 "MPI_Bcast (upload)");
-        halo_.balance(counts, true);
+        halo_.cutFor(state);
         std::vector<int> sendCounts(std::size_t(ranks_), 0), offsets(std::size_t(ranks_), 0);
         std::vector<ParticleRecord> records;
         if (rank_ == 0) {
@@ -262,10 +255,10 @@ class MpiBackend final : public Backend {
 
   private:
     // The distributed step: the CPU solver's stages with this process's
-    // exchanges between them (backend/mpi/slab_halo.hpp).
+    // exchanges between them (backend/mpi/key_range_halo.hpp).
     void insertExchanges(StepPlan<SolverStep>& plan) {
         // After prediction and the swept collision: particles whose x* left
-        // this slab go to their owners, arrivals and ghosts are added, and
+        // this rank's range go to their owners, arrivals and ghosts are added, and
         // the store is put into the order the one-process solver would have
         // them in (so that the stable sort gives the same relative order).
         plan.insertAfter(Stage::CollideSolids, {Stage::Distribute, [this](SolverStep& s) {
@@ -341,7 +334,7 @@ class MpiBackend final : public Backend {
     int rank_ = 0;
     int ranks_ = 1;
     Solver solver_;
-    SlabHalo halo_;
+    KeyRangeHalo halo_;
     ParticleStore store_;              // the particles this rank owns
     std::vector<std::uint64_t> keys_;  // their places in the one-process order
     std::uint64_t total_ = 0;          // particles on all ranks

@@ -1,5 +1,5 @@
-// The distributed backend (private header): the CPU solver on one slab of
-// the sorted grid per MPI rank (backend/mpi/slab_halo.hpp does the
+// The distributed backend (private header): the CPU solver on one range of
+// cell keys per MPI rank (backend/mpi/key_range_halo.hpp does the
 // decomposition, migration and halos; backend/cpu/solver.hpp the work).
 #pragma once
 
@@ -9,8 +9,8 @@
 
 namespace pbf {
 
-// Needs MPI initialised (pbf::distributed::initialize) with at least as
-// many planes of grid cells along the domain's longest axis as ranks.
+// Needs MPI initialised (pbf::distributed::initialize); any number of ranks
+// (a rank whose key range holds no particle just waits at the exchanges).
 // Throws std::runtime_error in a build without MPI.
 std::unique_ptr<Backend> makeMpiBackend(const SimulationParams& params,
                                         const BackendOptions& options);

@@ -17,7 +17,7 @@ struct ParticleRecord {
 #define PBF_RECORD_MEMBER(name, type, components, unit, kind, description) type name[components];
     PBF_PARTICLE_FIELDS(PBF_RECORD_MEMBER)
 #undef PBF_RECORD_MEMBER
-    // The particle's place in the one-process memory order (slab_halo.hpp).
+    // The particle's place in the one-process memory order (key_range_halo.hpp).
     std::uint64_t key;
 };
 static_assert(std::is_trivially_copyable_v<ParticleRecord>);

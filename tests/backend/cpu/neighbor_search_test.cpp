@@ -42,14 +42,20 @@ void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float
                              std::size_t* compactBlocks = nullptr) {
     pbf::ParticleStore p;
     for (const Vec3& x : points) p.add(x, {}, 1000.0f);
-    pbf::NeighborSearch search(domain, h, pbf::kMaxGridCells, compactSpan);
+    pbf::NeighborSearch search(domain, h, compactSpan);
     std::vector<std::uint32_t> perm;
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);
-    // Sorted by cell: cell indices never decrease along the array.
-    for (std::size_t i = 1; i < p.size(); ++i)
-        ASSERT_LE(search.cellIndexOf(p.predicted.get(i - 1)),
-                  search.cellIndexOf(p.predicted.get(i)));
+    // Sorted by cell: the keys are the particles' and never decrease along
+    // the array; inside a cell the particles keep their order (stable).
+    for (std::size_t i = 0; i < p.size(); ++i)
+        ASSERT_EQ(search.sortedKeys()[i], search.keyOf(p.predicted.get(i)));
+    for (std::size_t i = 1; i < p.size(); ++i) {
+        ASSERT_LE(search.sortedKeys()[i - 1], search.sortedKeys()[i]);
+        if (search.sortedKeys()[i - 1] == search.sortedKeys()[i]) {
+            ASSERT_LT(perm[i - 1], perm[i]);
+        }
+    }
     search.buildNeighborLists(p.predicted);
     std::size_t pairs = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -100,8 +106,8 @@ TEST(NeighborSearch, PointsOutsideTheGrid) {
 }
 
 TEST(NeighborSearch, ElongatedDomainsMatch) {
-    // Cells are numbered shortest axis fastest, longest slowest: every
-    // ordering of the axes, with points inside and outside the grid.
+    // Every ordering of the axes' extents, with points inside and outside
+    // the domain.
     std::mt19937 rng(8);
     const Aabb boxes[] = {{{0, 0, 0}, {1.0f, 0.3f, 0.6f}},
                           {{-1, 0, 2}, {-0.4f, 1.2f, 2.3f}},
@@ -123,9 +129,50 @@ TEST(NeighborSearch, CompactAndWideListsBothMatch) {
     EXPECT_EQ(compact, 0u);
 }
 
-TEST(NeighborSearch, RefusesGridsBeyondTheCellLimit) {
-    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {100, 100, 100}}, 0.001f, 1u << 20),
-                 std::invalid_argument);
+TEST(NeighborSearch, HugeMostlyEmptyDomainsCostWhatTheParticlesCost) {
+    // A 60 m x 4 m x 60 m basin at h = 2 cm holds 1.8e9 cells of the kernel
+    // radius (a dense cell table of 7 GB); two small clusters in opposite
+    // corners need only their own cells.
+    const Aabb basin{{0, 0, 0}, {60, 4, 60}};
+    std::mt19937 rng(9);
+    std::vector<Vec3> points = randomPoints(rng, 1500, {{0, 0, 0}, {0.3f, 0.3f, 0.3f}}, 0, 1);
+    for (const Vec3& x : randomPoints(rng, 1500, {{59.7f, 3.7f, 59.7f}, {60, 4, 60}}, 0, 1))
+        points.push_back(x);
+    expectMatchesBruteForce(points, basin, 0.02f);
+    pbf::NeighborSearch search(basin, 0.02f);
+    pbf::ParticleStore p;
+    for (const Vec3& x : points) p.add(x, {}, 1000.0f);
+    std::vector<std::uint32_t> perm;
+    search.sortByCell(p.predicted, perm);
+    p.reorder(perm);
+    search.buildNeighborLists(p.predicted);
+    EXPECT_LE(search.occupiedCellCount(), 2u * 4096u);
+    EXPECT_LT(search.memoryBytes(), 2000000u);
+}
+
+TEST(NeighborSearch, NegativeCoordinatesAndTheKeyRangeEnds) {
+    // A domain below the origin, and one exactly as wide as the key holds
+    // (2^21 cells) with points at both of its ends.
+    std::mt19937 rng(10);
+    const Aabb below{{-3, -2, -5}, {-2, -1.5f, -4.2f}};
+    expectMatchesBruteForce(randomPoints(rng, 2500, below, -0.05f, 1.05f), below, 0.06f);
+    const float h = 0.001f;
+    const float side = h * float(pbf::cell_key::kCellsPerAxis) * 0.999f;
+    const Aabb widest{{0, 0, 0}, {side, side, side}};
+    std::vector<Vec3> ends = randomPoints(rng, 400, {{0, 0, 0}, {0.01f, 0.01f, 0.01f}}, 0, 1);
+    for (const Vec3& x :
+         randomPoints(rng, 400, {{side - 0.01f, side - 0.01f, side - 0.01f}, {side, side, side}},
+                      0, 1.2f))
+        ends.push_back(x);
+    expectMatchesBruteForce(ends, widest, h);
+}
+
+TEST(NeighborSearch, RefusesDomainsBeyondTheKeyRange) {
+    // 2^21 cells a side is the key's range: one more is refused.
+    const float h = 0.01f;
+    const float side = h * float(pbf::cell_key::kCellsPerAxis + 1);
+    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {side, 1, 1}}, h), std::invalid_argument);
+    EXPECT_THROW(pbf::NeighborSearch(Aabb{{0, 0, 0}, {1, 0, 1}}, h), std::invalid_argument);
 }
 
 }  // namespace

@@ -458,15 +458,14 @@ TEST(DeviceWorld, ReductionsEqualTheHostsOnTheSameState) {
 // ---- Memory and bad input ----------------------------------------------------------
 
 // The 1M-particle dam break fits in 300 bytes per particle of device memory
-// (the backend's table, cell grid included), and the table is honest: a
+// (the backend's table, sparse grid included), and the table is honest: a
 // run's allocations stay within it.
 TEST(DeviceWorld, TheMillionParticleDamBreakFitsInThreeHundredBytesPerParticle) {
     Scene scene = loadScene(scenePath("dam_break.json"));
     const double base = double(countParticles(scene));
     scene.simulation.particleRadius *= float(std::cbrt(base / 1e6));
     const double particles = double(countParticles(scene));
-    const double perParticle = double(deviceBytesPerParticle(scene.simulation, false)) +
-                               double(deviceCellTableBytes(scene.simulation)) / particles;
+    const double perParticle = double(deviceBytesPerParticle(scene.simulation, false));
     std::printf("  %.0f particles: %.0f bytes per particle on the device\n", particles,
                 perParticle);
     EXPECT_NEAR(particles, 1e6, 2e4);
@@ -480,8 +479,7 @@ TEST(DeviceWorld, TheMillionParticleDamBreakFitsInThreeHundredBytesPerParticle) 
     for (int frame = 0; frame < 2; ++frame) stepFrame(world);
     const double used = double(world.backend().diagnostics().memoryBytes);
     const double n = double(world.particleCount());
-    const double table = n * double(deviceBytesPerParticle(small.simulation, false)) +
-                         double(deviceCellTableBytes(small.simulation));
+    const double table = n * double(deviceBytesPerParticle(small.simulation, false));
     std::printf("  %.0f particles: %.0f bytes per particle used, %.0f in the table\n", n, used / n,
                 table / n);
     EXPECT_LE(used, table * 1.02 + 65536.0);  // + the solids and per-block sums

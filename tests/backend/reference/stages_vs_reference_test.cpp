@@ -49,7 +49,7 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
         p.add(cloud.predicted[i] - kDt * cloud.velocity[i], {}, c.restDensity);
     for (std::size_t i = 0; i < n; ++i) p.predicted.set(i, cloud.predicted[i]);
 
-    NeighborSearch search(cloud.params.domain, c.h, kMaxGridCells, compactListSpan);
+    NeighborSearch search(cloud.params.domain, c.h, compactListSpan);
     std::vector<std::uint32_t> perm;
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);
@@ -147,7 +147,7 @@ TEST_P(SimdVsReference, PhysicalViscosityStageMatchesTheReference) {
     for (std::size_t i = 0; i < n; ++i)
         p.add(cloud.predicted[i] - kDt * cloud.velocity[i], {}, c.restDensity);
     for (std::size_t i = 0; i < n; ++i) p.predicted.set(i, cloud.predicted[i]);
-    NeighborSearch search(cloud.params.domain, c.h, kMaxGridCells, param.compactListSpan);
+    NeighborSearch search(cloud.params.domain, c.h, param.compactListSpan);
     std::vector<std::uint32_t> perm;
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);
@@ -193,7 +193,7 @@ TEST_P(SimdVsReference, CurvatureForceStagesMatchTheReference) {
     const std::size_t n = cloud.predicted.size();
     ParticleStore p;
     for (std::size_t i = 0; i < n; ++i) p.add(cloud.predicted[i], {}, c.restDensity);
-    NeighborSearch search(cloud.params.domain, c.h, kMaxGridCells, param.compactListSpan);
+    NeighborSearch search(cloud.params.domain, c.h, param.compactListSpan);
     std::vector<std::uint32_t> perm;
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);

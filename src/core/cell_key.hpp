@@ -1,0 +1,181 @@
+// The cell key: one 64-bit space-filling-curve code of a cubic cell's integer
+// coordinates (private header, PBF_HD). Every neighbour search in pbf sorts
+// by it: the CPU and GPU solvers, the reference backend, the MPI layer and the
+// surface code. Only occupied cells are stored anywhere, so memory and time
+// follow the particles, not the domain.
+//
+// The curve is Morton's (Z-order): the coordinates' bits interleaved, x in
+// the lowest place. Two properties the searches rely on:
+//  * a cube of 2^k cells a side whose corner is a multiple of 2^k is one
+//    contiguous key range, and key >> 3k is its own Morton key: the sparse
+//    grid looks cells up by such blocks (backend/sparse_grid.hpp);
+//  * the key grows with each coordinate separately, so the keys of a box of
+//    cells lie between those of its lowest and highest corners (the
+//    distributed split tests whole neighbourhoods with two keys).
+// Hilbert's curve keeps ranges slightly more compact but has neither
+// property cheaply; it is here for the measurement that chose Morton
+// (docs/performance.md, bench/cell_key_bench.cpp).
+//
+// Coordinates have 21 bits each (2,097,152 cells a side: 42 km at a 2 cm
+// kernel radius); keys use the low 63 bits.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "pbf/core/config.hpp"
+#include "pbf/core/vec3.hpp"
+
+namespace pbf::cell_key {
+
+inline constexpr int kBitsPerAxis = 21;
+inline constexpr std::uint32_t kCellsPerAxis = std::uint32_t{1} << kBitsPerAxis;
+
+// The 21 low bits of v spread to every third bit (bit k to bit 3k).
+PBF_HD constexpr std::uint64_t spreadBits(std::uint32_t v) {
+    std::uint64_t x = v & 0x1fffffu;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+}
+
+// Inverse of spreadBits: every third bit of v (from bit 0) gathered.
+PBF_HD constexpr std::uint32_t compactBits(std::uint64_t v) {
+    std::uint64_t x = v & 0x1249249249249249ull;
+    x = (x ^ (x >> 2)) & 0x10c30c30c30c30c3ull;
+    x = (x ^ (x >> 4)) & 0x100f00f00f00f00full;
+    x = (x ^ (x >> 8)) & 0x1f0000ff0000ffull;
+    x = (x ^ (x >> 16)) & 0x1f00000000ffffull;
+    x = (x ^ (x >> 32)) & 0x1fffffull;
+    return static_cast<std::uint32_t>(x);
+}
+
+// Integer cell coordinates, each in [0, kCellsPerAxis).
+struct CellCoords {
+    std::uint32_t x, y, z;
+    friend constexpr bool operator==(const CellCoords&, const CellCoords&) = default;
+};
+
+PBF_HD constexpr std::uint64_t mortonKey(CellCoords c) {
+    return spreadBits(c.x) | spreadBits(c.y) << 1 | spreadBits(c.z) << 2;
+}
+
+PBF_HD constexpr CellCoords mortonCoords(std::uint64_t key) {
+    return {compactBits(key), compactBits(key >> 1), compactBits(key >> 2)};
+}
+
+// Hilbert's curve by Skilling's transpose ("Programming the Hilbert curve",
+// AIP Conf. Proc. 707, 2004): coordinates -> transposed index -> key.
+PBF_HD constexpr std::uint64_t hilbertKey(CellCoords c) {
+    std::uint32_t X[3] = {c.x, c.y, c.z};
+    for (std::uint32_t q = kCellsPerAxis >> 1; q > 1; q >>= 1) {  // inverse undo
+        const std::uint32_t p = q - 1;
+        for (int i = 0; i < 3; ++i) {
+            if (X[i] & q) {
+                X[0] ^= p;
+            } else {
+                const std::uint32_t t = (X[0] ^ X[i]) & p;
+                X[0] ^= t;
+                X[i] ^= t;
+            }
+        }
+    }
+    X[1] ^= X[0];  // Gray encode
+    X[2] ^= X[1];
+    std::uint32_t t = 0;
+    for (std::uint32_t q = kCellsPerAxis >> 1; q > 1; q >>= 1)
+        if (X[2] & q) t ^= q - 1;
+    for (std::uint32_t& v : X) v ^= t;
+    return spreadBits(X[0]) << 2 | spreadBits(X[1]) << 1 | spreadBits(X[2]);
+}
+
+PBF_HD constexpr CellCoords hilbertCoords(std::uint64_t key) {
+    std::uint32_t X[3] = {compactBits(key >> 2), compactBits(key >> 1), compactBits(key)};
+    const std::uint32_t t0 = X[2] >> 1;  // Gray decode
+    X[2] ^= X[1];
+    X[1] ^= X[0];
+    X[0] ^= t0;
+    for (std::uint32_t q = 2; q != kCellsPerAxis; q <<= 1) {  // undo excess work
+        const std::uint32_t p = q - 1;
+        for (int i = 2; i >= 0; --i) {
+            if (X[i] & q) {
+                X[0] ^= p;
+            } else {
+                const std::uint32_t t = (X[0] ^ X[i]) & p;
+                X[0] ^= t;
+                X[i] ^= t;
+            }
+        }
+    }
+    return {X[0], X[1], X[2]};
+}
+
+// Bits a key of cells with coordinates below `cellsPerAxis` can use: what a
+// radix sort of such keys has to look at.
+PBF_HD constexpr int keyBits(std::uint32_t cellsPerAxis) {
+    int bits = 0;
+    while (bits < kBitsPerAxis && (std::uint32_t{1} << bits) < cellsPerAxis) ++bits;
+    return 3 * bits;
+}
+
+// Cubic cells of edge `cell` whose coordinate 0 starts at `origin` on every
+// axis, coordinates in [0, maxCoordinate]. Positions below the origin or
+// beyond the last cell are clamped to the border cells (and NaN to cell 0):
+// clamping is monotone and never moves two points apart in cell coordinates,
+// so two points closer than a cell edge stay in the same or adjacent cells
+// and searches remain exact.
+struct CellFrame {
+    Vec3 origin;
+    float cell;
+    float inverseCell;
+    std::uint32_t maxCoordinate;
+
+    // maxCoordinate + 1 a power of two (at most kCellsPerAxis): the keys
+    // then use keyBits(maxCoordinate + 1) bits.
+    static CellFrame over(const Vec3& origin, float cell,
+                          std::uint32_t maxCoordinate = kCellsPerAxis - 1) {
+        return {origin, cell, 1.0f / cell, maxCoordinate};
+    }
+
+    // Coordinate of `value` along an axis whose cells start at `start`. For
+    // t > 0 truncation is floor (no libm call on the device).
+    PBF_HD std::uint32_t coordinate(float value, float start) const {
+        const float t = (value - start) * inverseCell;
+        if (!(t > 0.0f)) return 0;
+        if (t >= float(maxCoordinate)) return maxCoordinate;
+        return static_cast<std::uint32_t>(t);
+    }
+    PBF_HD CellCoords coords(const Vec3& p) const {
+        return {coordinate(p.x, origin.x), coordinate(p.y, origin.y), coordinate(p.z, origin.z)};
+    }
+    PBF_HD std::uint64_t keyOf(const Vec3& p) const { return mortonKey(coords(p)); }
+    // The lowest corner of a cell.
+    PBF_HD Vec3 corner(CellCoords c) const {
+        return {origin.x + float(c.x) * cell, origin.y + float(c.y) * cell,
+                origin.z + float(c.z) * cell};
+    }
+};
+
+// The frame of a simulation domain: cells of edge `cell` from its lowest
+// corner, coordinates up to the next power of two above the cells its
+// longest side needs (so the keys use as few bits as the domain allows).
+// Returns false when the domain is wider than the key holds (2^21 cells a
+// side) or its extent is not a positive finite number.
+inline bool domainFrame(const Aabb& domain, float cell, CellFrame& frame) {
+    const Vec3 e = domain.extent();
+    double widest = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const double cells = std::ceil(double(e[a]) / double(cell));
+        if (!(cells > 0.0) || !(cells <= double(kCellsPerAxis))) return false;
+        widest = cells > widest ? cells : widest;
+    }
+    std::uint32_t span = 1;
+    while (double(span) < widest) span <<= 1;
+    frame = CellFrame::over(domain.min, cell, span - 1);
+    return true;
+}
+
+}  // namespace pbf::cell_key
