@@ -236,9 +236,14 @@ PBF_HD Vec3 resolveSolidCollision(const SolverConstants& c, const Solids& solids
 // impulse. Returns the new velocity.
 PBF_HD inline Vec3 respondToWalls(const Aabb& box, float restitution, float friction, const Vec3& x,
                                   Vec3 v) {
-    const float tolerance =
-        1e-4f * std::max(1e-6f, box.extent().x + box.extent().y + box.extent().z);
     for (int axis = 0; axis < 3; ++axis) {
+        // A particle on a wall sits exactly on it (collisions clamp x into
+        // the box); the tolerance is a few float roundings of the wall's
+        // coordinate, not a share of the domain (which would make every
+        // particle within centimetres of a large domain's floor a contact).
+        const float tolerance =
+            8.0f * std::numeric_limits<float>::epsilon() *
+            std::max({std::fabs(box.min[axis]), std::fabs(box.max[axis]), 1e-3f});
         float* vn = axis == 0 ? &v.x : (axis == 1 ? &v.y : &v.z);
         const bool onMin = x[axis] <= box.min[axis] + tolerance && *vn < 0.0f;
         const bool onMax = x[axis] >= box.max[axis] - tolerance && *vn > 0.0f;

@@ -116,8 +116,8 @@ const ParamInfo kTable[] = {
               closed(1e-5, 1.0), kFixed,
               "particles start on a cubic lattice of spacing 2 r; each carries the mass of one "
               "lattice cell of water",
-              "[1e-5, 1]; the domain must be ≥ 2 kernel radii wide and ≤ 2^26 grid cells of one "
-              "kernel radius",
+              "[1e-5, 1]; the domain must be ≥ 2 kernel radii wide and ≤ 2^21 kernel radii on "
+              "its longest side",
               "required", true),
     PBF_PARAM(FluidParams, restDensity, "fluid.rest_density", "rest_density", "kg/m³",
               openClosed(0.0, 1e5), kLive, "ρ0"),

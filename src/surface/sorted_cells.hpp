@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/cell_key.hpp"
 #include "pbf/core/vec3.hpp"
 
 namespace pbf::surface::detail {
@@ -65,9 +66,11 @@ class SortedCells {
         };
         return {axis(p.x), axis(p.y), axis(p.z)};
     }
+    // The cell key every neighbour search shares (Morton), of the cell's
+    // coordinates shifted to be non-negative.
     static std::uint64_t key(Cell c) {
-        return (std::uint64_t(c.z + kBias) << 42) | (std::uint64_t(c.y + kBias) << 21) |
-               std::uint64_t(c.x + kBias);
+        return cell_key::mortonKey({std::uint32_t(c.x + kBias), std::uint32_t(c.y + kBias),
+                                    std::uint32_t(c.z + kBias)});
     }
 
     std::span<const Vec3> points_;

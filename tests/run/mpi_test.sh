@@ -108,6 +108,18 @@ echo "emitter + solid + vorticity, 2 ranks: $(same_frames "$work/pour1" "$work/p
     { cat "$work/pour_tcp.log"; fail "2 ranks over TCP failed"; }
 echo "over TCP (loopback), 2 ranks: $(same_frames "$work/pour1" "$work/pour_tcp") frames bit-identical"
 
+# A 60 m x 4 m x 60 m basin (1.8e9 cells of the kernel radius) with water in
+# two opposite corners: each rank holds only its cells; 2 and 4 ranks (one
+# with no particles between the corners' key ranges at times).
+basin=(run "$src/tests/data/mpi_basin.json" -q --no-plot --render none --checkpoint-every 0
+       --checkpoint-seconds 0)
+"$pbf" "${basin[@]}" --out "$work/basin1" > /dev/null
+for n in 2 4; do
+    "${mpi[@]}" -np $n "$pbf" "${basin[@]}" --out "$work/basin$n" > "$work/basin$n.log" 2>&1 ||
+        { cat "$work/basin$n.log"; fail "sparse basin on $n ranks failed"; }
+    echo "sparse basin, $n ranks: $(same_frames "$work/basin1" "$work/basin$n") frames bit-identical"
+done
+
 # Surface tension with adhesion on the walls and a solid: the cohesion's pass
 # reads the ghosts' x* and densities (exchanged for the density constraint
 # already); the curvature force exchanges the ghosts' g, band normals and

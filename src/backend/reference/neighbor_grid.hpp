@@ -1,12 +1,13 @@
 // The reference backend's neighbour search (private header): particles
-// sorted by the uniform grid cell (edge = the search radius) that holds
-// them, and for each particle a scan of its own and the 26 adjacent cells.
-// Chosen to be obviously correct, not fast: no reordering of the particles,
-// no SIMD, one binary search per cell.
+// sorted by the cell key (core/cell_key.hpp; cells of edge = the search
+// radius) of the cell that holds them, and for each particle a scan of its
+// own and the 26 adjacent cells. Chosen to be obviously correct, not fast:
+// no reordering of the particles, no SIMD, one binary search per cell. Only
+// particles are stored: the domain's size costs nothing.
 //
 // Two particles closer than the radius lie in the same or in adjacent cells.
-// Positions outside the grid are clamped to its border cells, which keeps
-// that true (clamping never moves two points apart in cell coordinates).
+// Positions outside the key's range are clamped to its border cells, which
+// keeps that true (clamping never moves two points apart in cell coordinates).
 #pragma once
 
 #include <cstddef>
@@ -14,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "core/cell_key.hpp"
 #include "pbf/core/vec3.hpp"
 
 namespace pbf::reference {
@@ -39,13 +41,7 @@ class NeighborGrid {
         std::uint64_t cell;
         std::uint32_t particle;
     };
-    // Cell coordinates of p, clamped to the grid.
-    void cellOf(const Vec3& p, std::int64_t cell[3]) const;
-    std::uint64_t key(std::int64_t cx, std::int64_t cy, std::int64_t cz) const;
-
-    Aabb domain_;
-    float radius_;
-    std::int64_t dims_[3];
+    cell_key::CellFrame frame_;
     std::vector<CellEntry> sorted_;     // (cell, particle), by cell then particle
     std::vector<std::size_t> offsets_;  // particle i's list is [offsets_[i], offsets_[i + 1])
     std::vector<std::uint32_t> indices_;

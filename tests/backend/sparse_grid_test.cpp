@@ -1,0 +1,74 @@
+// The sparse grid's neighbour cells (backend/sparse_grid.hpp) against brute
+// force: every occupied cell within one cell of another, in increasing
+// order, near the key's range ends too.
+#include "backend/sparse_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+namespace pbf::test {
+namespace {
+
+using cell_key::CellCoords;
+
+void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied) {
+    std::vector<std::uint64_t> keys;
+    for (const CellCoords& c : occupied) keys.push_back(cell_key::mortonKey(c));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    grid::SparseCells cells;
+    cells.build(keys.data(), keys.size());  // one particle per cell
+    ASSERT_EQ(cells.cellKey, keys);
+    const grid::SparseGridView g =
+        cells.view(cell_key::CellFrame::over({0, 0, 0}, 1.0f));
+    for (std::uint32_t c = 0; c < keys.size(); ++c) {
+        const std::int32_t block = g.findBlock(keys[c] >> grid::kBlockShift);
+        ASSERT_GE(block, 0);
+        std::int32_t blocks[27];
+        grid::blockNeighborhood(g, std::uint32_t(block), blocks);
+        grid::CellNeighborhood nb;
+        grid::cellNeighborhood(g, c, blocks, nb);
+        const CellCoords a = cell_key::mortonCoords(keys[c]);
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t k = 0; k < keys.size(); ++k) {
+            const CellCoords b = cell_key::mortonCoords(keys[k]);
+            auto near = [](std::uint32_t u, std::uint32_t v) { return (u > v ? u - v : v - u) <= 1; };
+            if (near(a.x, b.x) && near(a.y, b.y) && near(a.z, b.z)) expected.push_back(k);
+        }
+        const std::vector<std::uint32_t> found(nb.cell, nb.cell + nb.count);
+        ASSERT_EQ(found, expected) << "cell " << a.x << " " << a.y << " " << a.z;
+        for (std::uint32_t k = 0; k < nb.count; ++k) {
+            const CellCoords b = cell_key::mortonCoords(keys[nb.cell[k]]);
+            ASSERT_EQ(nb.offset[k], grid::offsetCode(int(b.x) - int(a.x), int(b.y) - int(a.y),
+                                                     int(b.z) - int(a.z)));
+        }
+    }
+}
+
+TEST(SparseGrid, NeighbourCellsEqualBruteForceInAClump) {
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<std::uint32_t> u(30, 42);  // across several 4x4x4 blocks
+    std::vector<CellCoords> cells;
+    for (int i = 0; i < 900; ++i) cells.push_back({u(rng), u(rng), u(rng)});
+    expectNeighborhoodsMatchBruteForce(cells);
+}
+
+TEST(SparseGrid, NeighbourCellsEqualBruteForceAtTheKeyRangeEnds) {
+    std::mt19937 rng(12);
+    const std::uint32_t top = cell_key::kCellsPerAxis - 1;
+    std::uniform_int_distribution<std::uint32_t> low(0, 5), high(top - 5, top);
+    std::vector<CellCoords> cells;
+    for (int i = 0; i < 300; ++i) {
+        cells.push_back({low(rng), low(rng), low(rng)});
+        cells.push_back({high(rng), high(rng), high(rng)});
+        cells.push_back({low(rng), high(rng), low(rng)});
+    }
+    expectNeighborhoodsMatchBruteForce(cells);
+}
+
+}  // namespace
+}  // namespace pbf::test
