@@ -58,6 +58,7 @@
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
+#include "backend/gpu/device_step_arrays.hpp"
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
 #include "geometry/boundary_scale.hpp"
@@ -118,6 +119,9 @@ struct DeviceFloat3 {
     Float3View view() { return {raw(x), raw(y), raw(z)}; }
     std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
 };
+inline std::size_t bytesOf(const DeviceFloat3& a) {
+    return a.bytes();
+}
 
 // Thrust's temporary buffers (the sort's, the reductions'), passed as
 // thrust::device(allocator): blocks of device memory kept between calls
@@ -690,23 +694,16 @@ class DeviceBackend final : public Backend {
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
         setOptionalField(ParticleField::solveAcceleration, warm);
-        corrected_.resize(n);
-        lambda_.resize(n);
         keys_.resize(n);
         order_.resize(n);
-        if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
-            params.fluid.kinematicViscosity > 0.0f)
-            post_.resize(n);
-        if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
-        if (params.fluid.surfaceTension > 0.0f) resizeCurvature(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
+        // The step arrays these settings use (device_step_arrays.hpp).
+#define PBF_SIZE_STEP_ARRAY(name, type, components, use)                        \
+    if (stepArrayInUse(StepArrayUse::use, params, reactionsActive_)) name##_.resize(n);
+        PBF_DEVICE_STEP_ARRAYS(PBF_SIZE_STEP_ARRAY)
+#undef PBF_SIZE_STEP_ARRAY
         if (reactionsActive_) {
             solidCount_ = solids.solids.count;
-            for (ReactionRecords& r : records_) {
-                r.solid.resize(n);
-                r.at.resize(n);
-                r.move.resize(n);
-            }
             const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
             reactionSums_.resize(blocks * solidCount_ * 6);
             thrust::fill(reactionSums_.begin(), reactionSums_.end(), 0.0);
@@ -729,8 +726,8 @@ class DeviceBackend final : public Backend {
 
     ReactionSlot slot(int k) {
         if (!reactionsActive_) return {};
-        ReactionRecords& r = records_[k];
-        return {raw(r.solid), r.at.view(), r.move.view()};
+        if (k == 0) return {raw(reactionSolid0_), reactionAt0_.view(), reactionMove0_.view()};
+        return {raw(reactionSolid1_), reactionAt1_.view(), reactionMove1_.view()};
     }
 
     // Adds the records of the last recording stage (slots [0, slots)) to the
@@ -1019,22 +1016,37 @@ class DeviceBackend final : public Backend {
     std::size_t memoryBytes() const {
         std::size_t bytes = 0;
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
-        bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
-        bytes += colourGradient_.bytes() + bandNormal_.bytes() + bytesOf(curvature_);
-        bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
+#define PBF_STEP_ARRAY_CAPACITY(name, type, components, use) bytes += bytesOf(name##_);
+        PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_CAPACITY)
+#undef PBF_STEP_ARRAY_CAPACITY
+        bytes += bytesOf(keys_) + bytesOf(order_) + bytesOf(cellStart_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
-        for (const ReactionRecords& r : records_)
-            bytes += bytesOf(r.solid) + r.at.bytes() + r.move.bytes();
         bytes += bytesOf(reactionSums_) + bytesOf(reactionTotals_) + solids_.bytes();
         bytes += scratch_.bytes();  // the sort's and the reductions' buffers
         return bytes;
     }
 
-    struct ReactionRecords {
-        DeviceArray<std::uint32_t> solid;
-        DeviceFloat3 at, move;
-    };
+  public:
+    // The bytes held in the particle fields and the step arrays, by their
+    // sizes (device_backend.hpp: tested against the memory table).
+    std::size_t particleArrayBytes() const {
+        std::size_t bytes = 0;
+        const auto add = [&bytes](const auto& array) {
+            using T = typename std::decay_t<decltype(array)>::value_type;
+            bytes += array.size() * sizeof(T);
+        };
+        forEachDeviceArray(p_, [&](std::size_t, const auto& array) { add(array); });
+        const auto addField = [&](const auto& field) {
+            for (const auto* array : componentsOf(field)) add(*array);
+        };
+#define PBF_STEP_ARRAY_SIZE(name, type, components, use) addField(name##_);
+        PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_SIZE)
+#undef PBF_STEP_ARRAY_SIZE
+        return bytes;
+    }
+
+  private:
 
     BackendKind kind_;
     grid::GridView grid_;  // the layout; cellStart points into cellStart_ when used
@@ -1044,24 +1056,21 @@ class DeviceBackend final : public Backend {
     StepPlan<DeviceStep> plan_;
     mutable DeviceSolidStore solids_;   // refreshed by every call given solids
     mutable ScratchAllocator scratch_;  // Thrust's temporary buffers
-    // The step's scratch.
-    DeviceFloat3 corrected_;  // the correction pass's output (Jacobi)
-    DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
-    DeviceFloat3 vorticity_;  // omega, while confinement is on
-    DeviceArray<float> lambda_;
-    // The curvature force's g_i, nb_i and kappa_i, while surface tension is on.
-    DeviceFloat3 colourGradient_, bandNormal_;
-    DeviceArray<float> curvature_;
+    // The step's arrays, one element per particle (device_step_arrays.hpp).
+#define PBF_STEP_ARRAY_MEMBER(name, type, components, use) DeviceFieldArray<type, components> name##_;
+    PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_MEMBER)
+#undef PBF_STEP_ARRAY_MEMBER
+    // The step's other scratch: the search's.
     DeviceArray<std::uint32_t> keys_, order_, cellStart_;
     DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
     DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices
     DeviceArray<float> gatherFloat_;
     DeviceArray<std::uint32_t> gatherIndex_;
     mutable DeviceArray<detail::StatisticsPartial> partials_;
-    // Coupled solids' reactions: two record slots, per-block sums, totals.
+    // Coupled solids' reactions: two record slots (step arrays), per-block
+    // sums, totals.
     bool reactionsActive_ = false;
     std::uint32_t solidCount_ = 0;
-    ReactionRecords records_[2];
     DeviceArray<double> reactionSums_;
     DeviceArray<double> reactionTotals_;
     std::vector<SolidReaction> lastReactions_;
@@ -1079,6 +1088,10 @@ StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
     const SolverConstants constants = SolverConstants::from(params);
     DeviceBackend backend(PBF_DEVICE_KIND, params);
     return backend.runStages({params, constants, solids}, x, xStar, dt, surfaceTension);
+}
+
+std::size_t particleArrayBytes(const Backend& backend) {
+    return dynamic_cast<const DeviceBackend&>(backend).particleArrayBytes();
 }
 
 }  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE

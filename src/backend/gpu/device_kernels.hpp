@@ -20,6 +20,7 @@
 #include "backend/gpu/device_solids.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_sums.hpp"
+#include "backend/statistics_partial.hpp"
 #include "core/blocks.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
@@ -511,7 +512,7 @@ struct BadIndex {
 };
 
 // The statistics' partial sums of block b, in index order
-// (core/particle_checks.hpp, as core/statistics.cpp sums them).
+// (backend/statistics_partial.hpp, as backend/statistics.cpp sums them).
 struct StatisticsBlock {
     SolverConstants c;
     Aabb domain;
