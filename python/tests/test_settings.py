@@ -73,7 +73,7 @@ def test_every_live_parameter_is_readable_and_settable(small_world):
     """Walks the parameter table: every live parameter the CLI's --set accepts can be read and
     written through world.settings, by path and by attribute, and the World runs what was set
     (read back from World::settings(), not from the proxy). Fails for a row that the settings
-    proxy forgets (the KeyError of issue 25) or a write that does not reach the World."""
+    proxy forgets (a KeyError) or a write that does not reach the World."""
     rows = pbf.parameters()
     live = [r for r in rows if r["live"]]
     assert {r["path"] for r in live} >= {

@@ -939,7 +939,7 @@ class DeviceBackend final : public Backend {
                                                                    {raw(p_.density)}});
                                 },
                                 vorticityOn});
-        // Surface tension (issue 27): cohesion and adhesion at x*, v += dt a;
+        // Surface tension: cohesion and adhesion at x*, v += dt a;
         // a coupled solid's pull is folded into its reaction (as the CPU's
         // ReactionAccumulator records it, between confinement and the response).
         plan_.add(Part::After,

@@ -349,7 +349,7 @@ struct PhysicalViscosityKernel {
     }
 };
 
-// Surface tension (issue 27): the cohesion of the surface layer and the
+// Surface tension: the cohesion of the surface layer and the
 // walls' and solids' adhesion at the end-of-step x* with the last density
 // pass's rho (reference::surfaceTensionOf), v_i += dt a_i. Reads only the
 // neighbours' x* and rho, so it adds to v in place. Records a coupled

@@ -7,7 +7,7 @@
 // their own frame (Solid::shapeData: a mesh gives its level set's voxels,
 // so the device interpolates the same values the host does). Every solid
 // is placed by its pose and moves with its motion, uploaded before every
-// step; a body's boundary-density ratio grid (world/boundary_scale.hpp) is
+// step; a body's boundary-density ratio grid (geometry/boundary_scale.hpp) is
 // queried in the body's frame as on the host.
 //
 // The queries visit the solids in index order and keep the first nearest,
