@@ -279,10 +279,18 @@ std::string ParamInfo::check(const SimulationParams& params) const {
         case ParamType::Float:
         case ParamType::Int: {
             const double v = numeric(value);
-            const double hi =
-                range.hiParam.empty() ? range.hi : numeric(findParam(range.hiParam)->get(params));
+            // A float member holds its value rounded to float: the bounds are
+            // compared rounded the same way, so that a value written as the
+            // bound (particle_radius 1e-5) is the bound and in range.
+            const auto stored = [this](double bound) {
+                return type == ParamType::Float ? double(float(bound)) : bound;
+            };
+            const double lo = stored(range.lo);
+            const double hi = stored(range.hiParam.empty()
+                                         ? range.hi
+                                         : numeric(findParam(range.hiParam)->get(params)));
             if (v == range.special) return {};
-            const bool above = range.loOpen ? v > range.lo : v >= range.lo;
+            const bool above = range.loOpen ? v > lo : v >= lo;
             const bool below = range.hiOpen ? v < hi : v <= hi;
             if (above && below) return {};  // NaN fails both
             const std::string special =
