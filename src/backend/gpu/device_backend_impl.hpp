@@ -269,17 +269,7 @@ class DeviceSolidStore {
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const ShapeData d = keys[k]->shapeData(spacing, margin);
             DeviceShape& s = shapes[k];
-            s.kind = d.kind;
-            s.box = d.box;
-            s.center = d.center;
-            s.radius = d.radius;
-            s.point = d.point;
-            s.normal = d.normal;
-            s.base = d.base;
-            s.axis = d.axis;
-            s.height = d.height;
-            s.outside = d.outside;
-            s.offset = d.offset;
+            static_cast<ShapeParameters&>(s) = d;
             if (d.kind == ShapeData::Kind::Samples) {
                 s.samples = {d.origin, 1.0f / d.spacing, d.nx, d.ny, d.nz, nullptr};
                 offsets[k] = values.size();
