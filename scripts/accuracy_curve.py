@@ -134,7 +134,7 @@ def main():
         plot(points, pathlib.Path(args.out))
         return 0
     # plain Jacobi explicitly: a tolerance alone selects over-relaxation
-    # (its automatic default, issue 28)
+    # (its automatic default)
     methods = [("jacobi", ["solver.over_relaxation=1"])]
     for m in args.method:
         name, _, sets = m.partition(":")

@@ -113,7 +113,7 @@ PBF_HD SolidContribution solidContribution(const SolverConstants& c, const Solid
     s.gradient -= normal * slope;
     s.solid = nearest;
     // A finite body: the flat wall's value scaled to the body's shape
-    // (world/boundary_scale.hpp).
+    // (geometry/boundary_scale.hpp).
     if (solids.hasBoundaryScale(nearest)) {
         const float ratio = solids.boundaryScale(nearest, x);
         s.kernelSum *= ratio;

@@ -12,7 +12,7 @@
 // origin o is -(m / dt^2) sum (x - o) x d. This is how SPlisHSPlasH couples
 // PBF to rigid bodies (the boundary correction's reaction, -m dx / dt^2),
 // extended to the collision and friction terms so that fluid + bodies
-// conserve momentum exactly up to rounding (tests/world/bodies_test.cpp).
+// conserve momentum exactly up to rounding (tests/bodies/bodies_test.cpp).
 //
 // Determinism: sums are kept per fixed block of detail::kBlockSize particle
 // indices (one thread works on a block at a time, in index order) and per

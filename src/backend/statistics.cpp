@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backend/statistics_partial.hpp"
 #include "core/parallel.hpp"
-#include "core/particle_checks.hpp"
 
 namespace pbf {
 StateStatistics computeStatistics(const ParticleStore& p, const SolverConstants& c,

@@ -145,7 +145,7 @@ const ParamInfo kTable[] = {
               closed(0.0, 0.1), kLive,
               "iterate each substep until the average compression mean(max(ρ/ρ0 − 1, 0)) is at "
               "most this (e.g. 0.0002 = 0.02 %; SPlisHSPlasH's `maxError`); 0: fixed `iterations` "
-              "([accuracy per cost](performance.md#accuracy-per-cost-issue-19)). With a tolerance "
+              "([accuracy per cost](performance.md#accuracy-per-cost-iterating-to-a-tolerance)). With a tolerance "
               "the over-relaxed iteration is the default (`over_relaxation` 1.2); set "
               "`over_relaxation` 1 for plain Jacobi"),
     PBF_PARAM(SolverParams, minIterations, "solver.min_iterations", "min_iterations", "",
@@ -164,7 +164,7 @@ const ParamInfo kTable[] = {
               "particle's last solve acceleration × dt², for particles that ended the last "
               "substep compressed; 0: off. 0.8 with `over_relaxation` 1.2 and at least 4 "
               "iterations was the best on the dam break ([accuracy per "
-              "cost](performance.md#accuracy-per-cost-issue-19)), but it makes water at rest boil "
+              "cost](performance.md#accuracy-per-cost-iterating-to-a-tolerance)), but it makes water at rest boil "
               "(0.3 m/s in a resting tank): not for scenes that come to rest"),
     PBF_PARAM(SolverParams, relaxation, "solver.relaxation", "relaxation", "1",
               closed(1e-6, 10.0), kLive,
@@ -279,10 +279,18 @@ std::string ParamInfo::check(const SimulationParams& params) const {
         case ParamType::Float:
         case ParamType::Int: {
             const double v = numeric(value);
-            const double hi =
-                range.hiParam.empty() ? range.hi : numeric(findParam(range.hiParam)->get(params));
+            // A float member holds its value rounded to float: the bounds are
+            // compared rounded the same way, so that a value written as the
+            // bound (particle_radius 1e-5) is the bound and in range.
+            const auto stored = [this](double bound) {
+                return type == ParamType::Float ? double(float(bound)) : bound;
+            };
+            const double lo = stored(range.lo);
+            const double hi = stored(range.hiParam.empty()
+                                         ? range.hi
+                                         : numeric(findParam(range.hiParam)->get(params)));
             if (v == range.special) return {};
-            const bool above = range.loOpen ? v > range.lo : v >= range.lo;
+            const bool above = range.loOpen ? v > lo : v >= lo;
             const bool below = range.hiOpen ? v < hi : v <= hi;
             if (above && below) return {};  // NaN fails both
             const std::string special =

@@ -61,21 +61,21 @@ constexpr double kCohesionCalibration = 2.5;
 // The static surface tension is the curvature force's (Brackbill et al.
 // 1992; equations.hpp, "Curvature force"): the cohesion's pull alone
 // compresses the layer in-plane until the density constraint pushes back,
-// so it holds no static tension (docs/surface_tension.md, item 8). The force
-// applies sigma itself, its two factors measured rather than fitted (item
-// 20): no calibration factor. The cohesion stays at a fraction of its pull
+// so it holds no static tension (docs/surface_tension.md, "Why this
+// model"). The force applies sigma itself, its two factors measured rather
+// than fitted: no calibration factor. The cohesion stays at a fraction of its pull
 // (kCohesionPull), to hold outlying particles, its core kept. Two lengths
 // of the discretisation: the band's floor g0 = 0.2 / d on |grad c| (the
 // bulk's noise gives every particle some |g|; on the rest lattice, h = 2 d,
 // only the outer layer has |g| d > 0: 0.478) and the band's depth inside
-// the interface, e = 0.7 d (item 20: on resting drops of 6 and 12 spacings
+// the interface, e = 0.7 d (on resting drops of 6 and 12 spacings
 // in radius the force's total on the upper half fell short of its radial
 // integral as a shell 0.74 and 0.70 d inside the volume's radius would;
 // the band's A-weighted mean radius lies 0.75 and 0.78 d inside it, as
 // the laplace case prints; 0.37 d on a ball cut from the lattice, before
-// the surface packs). A pull of 0.45 (item 10) is kept from
-// the stress's calibration: with the curvature force the full laplace,
-// rayleigh_drop, cube_to_sphere and wetting cases pass with it (item 20).
+// the surface packs). A pull of 0.45, enough to hold outlying particles
+// beside the force: the full laplace, rayleigh_drop, cube_to_sphere and
+// wetting cases pass with it (docs/surface_tension.md, "Validation").
 constexpr float kSurfaceFloor = 0.2f;    // g0: the floor on |g| times the spacing d
 constexpr float kSurfaceOffset = 0.7f;   // e / d
 constexpr double kCohesionPull = 0.45;        // the cohesion's pull, of the lattice derivation's
@@ -204,7 +204,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
             static_cast<float>(1.0 / std::sqrt(2.0 * epsilon * lattice.stiffness));
         // The pull at kCohesionPull of the derivation's, its core
         // (cohesionScale x cohesionCoreScale) and the substep kept (the
-        // calibration of item 9 ran at the full cohesion's substep).
+        // calibration ran at the full cohesion's substep).
         c.cohesionScale *= float(kCohesionPull);
         c.cohesionCoreScale /= float(kCohesionPull);
         c.surfaceTension = sigma;

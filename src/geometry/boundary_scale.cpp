@@ -14,7 +14,7 @@ namespace {
 // (signed distance < 0) and the half-space test (offset . n < -s) can round
 // differently: at r = 5 mm a whole layer of points counted for the plane
 // and not for the body gave a ratio of 0.57 instead of 1 at the centre of a
-// cube's face, for the particles resting there (issue 28).
+// cube's face, for the particles resting there.
 struct Quadrature {
     std::vector<Vec3> offsets;
     std::vector<float> weights;

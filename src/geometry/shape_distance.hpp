@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "pbf/core/config.hpp"
 #include "pbf/core/vec3.hpp"
+#include "pbf/geometry/pose.hpp"
 
 namespace pbf::shape {
 
@@ -67,6 +69,58 @@ PBF_HD inline bool withinReach(const Aabb& box, const Vec3& p, float reach) {
     return p.x >= box.min.x - reach && p.x <= box.max.x + reach && p.y >= box.min.y - reach &&
            p.y <= box.max.y + reach && p.z >= box.min.z - reach && p.z <= box.max.z + reach;
 }
+
+// A shape placed by its pose (`identity`: the identity pose, the shape is
+// queried directly): the signed distance in the shape's frame, the normal
+// turned back into the world's.
+template <class Shape>
+PBF_HD float posedDistance(const Shape& shape, bool identity, const Pose& pose, const Vec3& p,
+                           Vec3& normal) {
+    if (identity) return shape.signedDistance(p, normal);
+    Vec3 localNormal;
+    const float d = shape.signedDistance(pose.toLocal(p), localNormal);
+    normal = pose.directionToWorld(localNormal);
+    return d;
+}
+
+// The nearest of several solids within `reach` of p, offered one by one in
+// index order (the first nearest is kept). SolidSet::signedDistance on the
+// host and the GPU backend's DeviceSolids::signedDistance both search with
+// it, so a particle meets the same solid on either.
+struct NearestSolid {
+    float distance;  // the reach until a solid lies nearer
+    Vec3 normal;
+    std::size_t solid = 0;
+    bool found = false;
+
+    PBF_HD explicit NearestSolid(float reach) : distance(reach) {}
+
+    // Solid k, within `bounds`, whose signed distance is
+    // solids.distanceTo(k, p, normal).
+    template <class Solids>
+    PBF_HD void offer(const Solids& solids, std::size_t k, const Aabb& bounds, const Vec3& p,
+                      float reach) {
+        if (!withinReach(bounds, p, reach)) return;
+        Vec3 n;
+        const float d = solids.distanceTo(k, p, n);
+        if (d < distance) {
+            distance = d;
+            normal = n;
+            solid = k;
+            found = true;
+        }
+    }
+
+    // The distance; the normal and *nearest are written only when a solid
+    // lay within reach.
+    PBF_HD float result(Vec3& n, std::size_t* nearest) const {
+        if (found) {
+            n = normal;
+            if (nearest) *nearest = solid;
+        }
+        return distance;
+    }
+};
 
 // A unit vector perpendicular to the unit `axis`.
 PBF_HD inline Vec3 perpendicularTo(const Vec3& axis) {

@@ -200,27 +200,13 @@ float SolidSet::boundaryScale(std::size_t i, const Vec3& p) const {
 }
 
 float SolidSet::distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const {
-    if (identity_[k]) return shapes_[k]->signedDistance(p, normal);
-    const Pose& pose = motions_[k].pose;
-    Vec3 localNormal;
-    const float d = shapes_[k]->signedDistance(pose.toLocal(p), localNormal);
-    normal = pose.directionToWorld(localNormal);
-    return d;
+    return shape::posedDistance(*shapes_[k], identity_[k], motions_[k].pose, p, normal);
 }
 
 float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
                                std::size_t* nearest) const {
-    float best = reach;
-    const auto consider = [&](std::size_t k) {
-        if (!shape::withinReach(bounds_[k], p, reach)) return;
-        Vec3 n;
-        const float d = distanceTo(k, p, n);
-        if (d < best) {
-            best = d;
-            normal = n;
-            if (nearest) *nearest = k;
-        }
-    };
+    shape::NearestSolid best(reach);
+    const auto consider = [&](std::size_t k) { best.offer(*this, k, bounds_[k], p, reach); };
     if (index_.valid && reach <= index_.margin && index_.box.contains(p)) {
         const Vec3 g = (p - index_.box.min) * index_.inverseCell;
         const int i = std::min(int(g.x), index_.nx - 1), j = std::min(int(g.y), index_.ny - 1),
@@ -228,10 +214,10 @@ float SolidSet::signedDistance(const Vec3& p, float reach, Vec3& normal,
         const std::size_t cell = (std::size_t(k) * index_.ny + j) * index_.nx + i;
         for (std::uint32_t m = index_.start[cell]; m < index_.start[cell + 1]; ++m)
             consider(index_.items[m]);
-        return best;
+        return best.result(normal, nearest);
     }
     for (std::size_t k = 0; k < shapes_.size(); ++k) consider(k);
-    return best;
+    return best.result(normal, nearest);
 }
 
 void SolidSet::buildIndex(const Aabb& box, float margin) {

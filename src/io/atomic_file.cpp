@@ -45,7 +45,16 @@ void writeFileAtomically(const std::filesystem::path& path,
             throw IoError(
                 describe(path, "cannot create file (is the directory writable?)" + lastError()));
         errno = 0;
-        write(out);
+        try {
+            write(out);
+        } catch (...) {
+            // The writer gave up: the old file stays as it was, and no
+            // temporary is left beside it.
+            out.close();
+            std::error_code ignored;
+            std::filesystem::remove(temporary, ignored);
+            throw;
+        }
         out.flush();
         if (!out) {
             const std::string reason = lastError();

@@ -1,7 +1,9 @@
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "pbf/io/io.hpp"
 
@@ -11,11 +13,11 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "binary PLY output assumes a little-endian host");
 
-struct Record {  // one vertex as laid out in the file (32 bytes, no padding)
-    float x, y, z, vx, vy, vz, density;
-    std::uint32_t id;
-};
-static_assert(sizeof(Record) == 32);
+std::size_t propertyBytes(std::string_view type) {
+    if (type == "float" || type == "uint") return 4;
+    if (type == "uchar") return 1;
+    throw std::logic_error("PLY property type '" + std::string(type) + "' is not written by pbf");
+}
 
 [[noreturn]] void fail(const std::string& name, const std::string& message) {
     throw IoError(name + ": " + message);
@@ -23,27 +25,41 @@ static_assert(sizeof(Record) == 32);
 
 }  // namespace
 
-void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p) {
-    const std::vector<std::uint32_t> order = p.orderById();
+void writeVertexPly(const std::filesystem::path& path, std::string_view comment,
+                    std::span<const PlyProperty> properties, std::size_t count,
+                    const std::function<void(std::size_t k, char* record)>& fill) {
+    std::size_t stride = 0;
+    for (const PlyProperty& p : properties) stride += propertyBytes(p.type);
     writeFileAtomically(path, [&](std::ostream& out) {
-        out << "ply\nformat binary_little_endian 1.0\ncomment written by pbf\n"
-            << "element vertex " << p.size() << "\n"
-            << "property float x\nproperty float y\nproperty float z\n"
-            << "property float vx\nproperty float vy\nproperty float vz\n"
-            << "property float density\nproperty uint id\nend_header\n";
-        std::vector<Record> buffer;
-        buffer.reserve(std::min<std::size_t>(order.size(), 65536));
-        for (std::size_t k = 0; k < order.size(); ++k) {
-            const std::uint32_t i = order[k];
-            buffer.push_back({p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i],
-                              p.velocity.y[i], p.velocity.z[i], p.density[i], p.id[i]});
-            if (buffer.size() == buffer.capacity() || k + 1 == order.size()) {
-                out.write(reinterpret_cast<const char*>(buffer.data()),
-                          static_cast<std::streamsize>(buffer.size() * sizeof(Record)));
-                buffer.clear();
-            }
+        out << "ply\nformat binary_little_endian 1.0\ncomment " << comment << "\n"
+            << "element vertex " << count << "\n";
+        for (const PlyProperty& p : properties)
+            out << "property " << p.type << " " << p.name << "\n";
+        out << "end_header\n";
+        // Records written in chunks of up to 64k vertices.
+        constexpr std::size_t kChunk = 65536;
+        std::vector<char> buffer(std::min(count, kChunk) * stride);
+        for (std::size_t first = 0; first < count; first += kChunk) {
+            const std::size_t n = std::min(kChunk, count - first);
+            for (std::size_t k = 0; k < n; ++k) fill(first + k, buffer.data() + k * stride);
+            out.write(buffer.data(), static_cast<std::streamsize>(n * stride));
         }
     });
+}
+
+void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p) {
+    static constexpr PlyProperty kProperties[] = {
+        {"float", "x"},  {"float", "y"},  {"float", "z"},       {"float", "vx"},
+        {"float", "vy"}, {"float", "vz"}, {"float", "density"}, {"uint", "id"}};
+    const std::vector<std::uint32_t> order = p.orderById();
+    writeVertexPly(
+        path, "written by pbf", kProperties, order.size(), [&](std::size_t k, char* record) {
+            const std::uint32_t i = order[k];
+            const float f[7] = {p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i],
+                                p.velocity.y[i], p.velocity.z[i], p.density[i]};
+            std::memcpy(record, f, sizeof f);
+            std::memcpy(record + sizeof f, &p.id[i], 4);
+        });
 }
 
 ParticleFrame readParticlesPly(const std::filesystem::path& path) {

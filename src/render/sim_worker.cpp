@@ -76,6 +76,7 @@ void SimulationWorker::publish(const World& world, const FrameReport* stepped, d
     }
     s.report = stepped != nullptr ? *stepped : world.report();
     s.frameMs = frameMs;
+    s.device = world.backend().kind();
     for (const RigidBodyInfo& body : world.bodyInfos())
         s.bodyPoses.push_back(world.solids().motion(body.solid).pose);
     std::lock_guard lock(mutex_);

@@ -29,6 +29,8 @@ struct Snapshot {
     std::vector<float> density;
     FrameReport report;
     double frameMs = 0.0;  // wall-clock ms of the last simulated frame
+    // The backend that computed it (World::backend().kind()).
+    BackendKind device = BackendKind::Cpu;
     // Pose of each rigid body's surface (the pose of its solid in
     // World::solids(), for render::tessellateBodyShapes' meshes).
     std::vector<Pose> bodyPoses;

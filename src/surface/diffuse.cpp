@@ -298,23 +298,18 @@ void DiffuseSimulator::advance(int frame, const ParticleFrame& from, const Parti
 }
 
 void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& d) {
-    writeFileAtomically(path, [&](std::ostream& out) {
-        out << "ply\nformat binary_little_endian 1.0\ncomment written by pbf foam\n"
-            << "element vertex " << d.size() << "\n"
-            << "property float x\nproperty float y\nproperty float z\n"
-            << "property float vx\nproperty float vy\nproperty float vz\n"
-            << "property uchar type\nproperty float lifetime\nproperty uint id\nend_header\n";
-        std::vector<char> record;
-        for (std::size_t k = 0; k < d.size(); ++k) {
-            const float f[6] = {d.position[k].x, d.position[k].y, d.position[k].z,
-                                d.velocity[k].x, d.velocity[k].y, d.velocity[k].z};
-            out.write(reinterpret_cast<const char*>(f), sizeof f);
-            const auto type = static_cast<std::uint8_t>(d.type[k]);
-            out.write(reinterpret_cast<const char*>(&type), 1);
-            out.write(reinterpret_cast<const char*>(&d.lifetime[k]), 4);
-            out.write(reinterpret_cast<const char*>(&d.id[k]), 4);
-        }
-    });
+    static constexpr PlyProperty kProperties[] = {
+        {"float", "x"},  {"float", "y"},    {"float", "z"},        {"float", "vx"}, {"float", "vy"},
+        {"float", "vz"}, {"uchar", "type"}, {"float", "lifetime"}, {"uint", "id"}};
+    writeVertexPly(path, "written by pbf foam", kProperties, d.size(),
+                   [&](std::size_t k, char* record) {
+                       const float f[6] = {d.position[k].x, d.position[k].y, d.position[k].z,
+                                           d.velocity[k].x, d.velocity[k].y, d.velocity[k].z};
+                       std::memcpy(record, f, sizeof f);
+                       record[24] = static_cast<char>(static_cast<std::uint8_t>(d.type[k]));
+                       std::memcpy(record + 25, &d.lifetime[k], 4);
+                       std::memcpy(record + 29, &d.id[k], 4);
+                   });
 }
 
 DiffuseParticles readDiffusePly(const std::filesystem::path& path) {

@@ -7,7 +7,7 @@
 // Nothing in the coupling knows Archimedes: the force on a body is the
 // reaction to what its surface does to the particles (docs/architecture.md,
 // "Rigid bodies"), so the floating depth tests the whole two-way coupling.
-// The submerged fraction is measured as tests/world/bodies_test.cpp does
+// The submerged fraction is measured as tests/bodies/bodies_test.cpp does
 // (detail::waterLevel, detail::submergedFraction): the water level from the
 // particles away from the cubes, the share of each posed cube below it.
 #include <fmt/format.h>
@@ -41,7 +41,7 @@ struct Settling {
 Settling settle(float radius, const Options& options) {
     WorldDef def;
     def.name = "archimedes";
-    // The tank of tests/world/bodies_test.cpp: 0.7 x 0.5 x 0.3 m, 0.26 m of water.
+    // The tank of tests/bodies/bodies_test.cpp: 0.7 x 0.5 x 0.3 m, 0.26 m of water.
     def.simulation.domain = {{0, 0, 0}, {0.7f, 0.5f, 0.3f}};
     def.simulation.particleRadius = radius;
     def.simulation.solver.maxTimeStep = float(detail::restingTimeStep(radius));
@@ -140,7 +140,7 @@ CaseResult run(const Options& options) {
                                               plot::Style::Points));
     result.figure = {result.title, {fraction, depth, height, speed}, 2};
 
-    // 0.4 r of the edge: 0.02 (2 mm) at r = 5 mm, issue 28's target, met
+    // 0.4 r of the edge: 0.02 (2 mm) at r = 5 mm, met
     // once the water level was read from whole columns (measure.cpp) and the
     // density map's quadrature fixed (boundary_scale.cpp); what is left is
     // the denser first layer of water against the body (a held, submerged
@@ -181,7 +181,7 @@ CaseResult run(const Options& options) {
         {"largest cube speed in the last second", lastSpeed, 0.0, 0.05, "m/s", "at rest: 0",
          "PBF's residual velocity noise at rest (~1 cm/s) moves light 10 cm cubes by a few "
          "cm/s; a cube still bobbing after the drop moves at tenths of m/s; the bound of "
-         "tests/world/bodies_test.cpp",
+         "tests/bodies/bodies_test.cpp",
          Check::Bound::AtMost});
 
     std::string table =

@@ -142,7 +142,7 @@ CaseResult run(const Options& options) {
     result.checks.push_back(
         {"lowest sphericity over the last third", worstLate, 0.95, 0.0, "",
          "a sphere (1); the cube starts at " + fmt::format("{:.3f}", initial),
-         "issue 27: >= 0.95. A particle surface is rough at the scale of a spacing, which "
+         ">= 0.95: a particle surface is rough at the scale of a spacing, which "
          "keeps even a resting drop's reconstructed sphericity below 1",
          Check::Bound::AtLeast});
     result.checks.push_back({"most pieces at any frame", mostPieces, 1.0, 0.0, "",
@@ -151,7 +151,7 @@ CaseResult run(const Options& options) {
     result.checks.push_back(
         {"nearest neighbour kept by 99 % of the particles / spacing", clustered, 0.5, 0.0, "",
          "no clustering",
-         "issue 27: above half a spacing at every frame; cohesion alone would pull pairs "
+         "above half a spacing at every frame: cohesion alone would pull pairs "
          "together where the constraint is inactive (5 % of the particles did without the "
          "core); 1 % may meet in a collision",
          Check::Bound::AtLeast});

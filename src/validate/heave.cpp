@@ -1,8 +1,8 @@
 // Heave: a floating sphere pushed down and released bobs at its natural
 // period, T = 2 pi sqrt((m + A) / (rho0 g A_w)): its mass m, the added mass
 // A of the water it moves, and the restoring force of the waterplane
-// A_w = pi a^2 (issue 28: a convergence check of the two-way coupling in
-// motion, where Archimedes checks it at rest).
+// A_w = pi a^2 (a convergence check of the two-way coupling in motion,
+// where Archimedes checks it at rest).
 //
 // A sphere of radius a and density rho0 / 2 floats half submerged: m is the
 // displaced mass rho0 (2/3) pi a^3, and T = 2 pi sqrt(2 a (1 + mu) / (3 g))

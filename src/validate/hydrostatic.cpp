@@ -59,8 +59,8 @@ double surfaceHeight(const ParticleStore& p, float r) {
 // layers deep needs twice the iterations to be held equally well. With 4
 // iterations at 2.5 mm (40 layers) the deep water never comes to rest:
 // measured 99th-percentile speed 0.087 m/s after 3 s, in the bulk (0.088)
-// and not at the surface (0.023); 8 iterations give 0.035, 16 give 0.041
-// (issue 28). The surface layers were not the cause.
+// and not at the surface (0.023); 8 iterations give 0.035, 16 give 0.041.
+// The surface layers were not the cause.
 int iterationsFor(float radius) {
     return std::max(4, int(std::lround(4.0 * 0.01 / double(radius))));
 }

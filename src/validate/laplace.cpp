@@ -7,10 +7,10 @@
 // the substep (the solve acceleration) only while the warm start is on, so
 // the case runs the smallest warm start, 1e-6: it moves the particles by a
 // millionth of the last correction, which leaves the solver's default
-// dynamics. (The case ran at 0.8 until 2026-11-26: that warm start acts on
-// compressed particles only, is not pairwise, spun the drops (a third of
-// the 3 mm drop's kinetic energy) and raised the 6 mm drop's pressure from
-// 17.4 to 20.9 Pa; docs/surface_tension.md item 13.) Averaged over many
+// dynamics. (A warm start of 0.8 would not: it acts on compressed particles
+// only, is not pairwise, spins the drops (a third of the 3 mm drop's
+// kinetic energy) and raised the 6 mm drop's pressure from 17.4 to
+// 20.9 Pa.) Averaged over many
 // frames of two resting drops, the smaller one cut from the lattice at
 // four shifts (sampledDrop).
 //
@@ -23,9 +23,8 @@
 // constraint + cohesion pull + core + momentum flux across the inner disc
 // of the equator, r < R / 2: that must be 2 sigma / R and scale as 1 / R.
 // (The curvature force acts on the surface band alone: none of it crosses
-// the inner disc.)
-// (Until issue 27's item 8 the case read the constraint's force across the
-// whole equator, which the bulk's cohesion partly takes back.)
+// the inner disc. The constraint's force across the whole equator would
+// not do: the bulk's cohesion partly takes it back.)
 //
 // Two checks of the measure: Newton's third law on the upper half at rest
 // (across the whole equator the constraint's force, the cohesion's core and
@@ -34,13 +33,10 @@
 // particles, EquatorForces), and the pair fit reproducing the constraint's
 // force across the whole equator.
 //
-// What it found (docs/surface_tension.md, "Why Laplace fails"): with the
-// cohesion alone the pressure followed the particles' jitter (with the
-// substep halved the drop was quieter and the pressure fell tenfold); the
-// continuum surface stress (items 8-9) gave a static pressure, and the
-// half-step drop below showed that it no longer followed the substep; the
-// stress's fell with R / d (item 16), the curvature force's does not
-// (item 20).
+// Why the half-step rerun (docs/surface_tension.md, "Why this model"): with
+// the cohesion alone the pressure followed the particles' jitter (with the
+// substep halved the drop was quieter and the pressure fell tenfold); a
+// pressure set by sigma does not follow the substep.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -369,15 +365,14 @@ CaseResult run(const Options& options) {
     const Drop large = runs.front();
     const Drop small = sampledDrop({runs.end() - kSamplings, runs.end()}, options);
     // The small drop again at about half the capillary substep (fixed
-    // substeps): quieter, and its pressure should not change if it were set
-    // by sigma. Not checked; it is the evidence for the failure above.
+    // substeps): quieter, and its pressure should not change if it is set
+    // by sigma. Reported, not checked.
     const int halfStep = int(std::ceil(2.0 / (200.0 * small.dt)));
     const Drop quiet = restingDrop(0.003, spacing, halfStep, kAverage, options);
     // The 1 / R law over 5 to 16 spacings in radius (without --quick; not
     // checked, averaged 0.15 s): p R / 2 sigma is the drop's static
-    // tension over sigma (the continuum surface stress of items 8-19 made it
-    // fall with R / d, docs/surface_tension.md item 16; the curvature force
-    // of item 20 holds it).
+    // tension over sigma; with the curvature force it falls slowly with
+    // R / d (0.98 at 6 spacings, 0.77 at 16: docs/surface_tension.md, Limits).
     const std::vector<Drop> study(runs.begin() + 1, runs.end() - kSamplings);
 
     plot::Panel panel{
@@ -418,7 +413,7 @@ CaseResult run(const Options& options) {
              d->pressure, 2.0 * kSigma / d->radius, 0.25 * 2.0 * kSigma / d->radius, "Pa",
              "Young-Laplace: 2 sigma / R",
              "25 %: the curvature force's factors are measured on the particles, not fitted "
-             "(kappa and the band's integral within 5-15 %, docs/surface_tension.md item 20), "
+             "(kappa and the band's integral within 5-15 % on the rest lattice), "
              "and the pair fit of the constraint's force leaves a residual of about a quarter"});
     result.checks.push_back({"p R of the small drop / p R of the large",
                              small.pressure * small.radius / (large.pressure * large.radius), 1.0,

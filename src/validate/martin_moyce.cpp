@@ -11,7 +11,7 @@
 // experiment's front starts late against its clock. One constant delay
 // (dT in [0, 0.5]) is fitted to the front and reported and checked. A
 // gate lifted at the speed of an instantaneous dam break (Lauber & Hager's
-// criterion, kGateSpeed) was tried as the cause of that delay (issue 28):
+// criterion, kGateSpeed) was tried as the cause of that delay:
 // its raw front is no closer to the experiment than the instant release's
 // (RMS 0.295 against 0.290 at 30 across a: the water squeezed under the
 // rising gate leaves as a fast jet along the floor, so the front does not
@@ -57,7 +57,7 @@ const double kGateSpeed =
     std::sqrt(kG * martin_moyce::kHeightRatio * martin_moyce::kColumnWidth / 2.0);
 // Water's surface tension at 20 deg C (N/m; Vargaftik, Volkov & Voljak
 // 1983, J. Phys. Chem. Ref. Data 12(3) 817): the experiment's water had it,
-// pbf's default fluid has none. One run with it is reported (issue 28): the
+// pbf's default fluid has none. One run with it is reported: the
 // simulated surge runs ahead of the experiment's by a tongue about 10 mm
 // deep, four capillary lengths sqrt(sigma / (rho g)) = 2.7 mm, where
 // capillarity is no longer negligible against gravity.
@@ -277,7 +277,7 @@ CaseResult run(const Options& options) {
         runs.push_back(collapse(across, 0.0, 0.0f, options));
         comparisons.push_back(compare(runs.back()));
     }
-    // The gate (issue 28), at the middle resolution: reported, not checked.
+    // The gate, at the middle resolution: reported, not checked.
     const Collapse gated = collapse(resolutions[1], kGateSpeed, 0.0f, options);
     const Comparison gatedComparison = compare(gated);
     // Water's surface tension, instant release, at the middle resolution:

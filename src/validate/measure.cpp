@@ -97,7 +97,7 @@ double waterLevel(const World& world, double clearance) {
     // their own distance split the columns the clearance circle crosses, and
     // such a column's highest particle outside the circle can lie anywhere
     // down to the floor. Those few columns read the level 3-4 mm low at r =
-    // 5 mm (the floating-depth bias of issue 28; docs/validation.md).
+    // 5 mm (the floating-depth bias; docs/validation.md, Archimedes).
     double sum = 0.0;
     std::size_t columns = 0;
     for (const auto& [key, y] : highest) {

@@ -1,6 +1,6 @@
 // Helpers shared by the validation cases (private header): stepping a world,
 // interpolating measured series at reference times, fitting, and how deep a
-// floating body lies (also used by tests/world/bodies_test.cpp).
+// floating body lies (also used by tests/bodies/bodies_test.cpp).
 #pragma once
 
 #include <cstddef>

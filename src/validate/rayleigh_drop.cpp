@@ -18,9 +18,10 @@
 // fractions of a spacing, and the checks compare the means, with their
 // standard errors (fallCheck): a single sampling's error at 8 across ranged +4 to +22 %,
 // which decided the order of the errors by chance.
-// The model's constants (sigma_css, the cohesion's pull) were chosen with
-// this case at the finest resolution (docs/surface_tension.md, items 9-10);
-// the coarser ones are predictions.
+// The curvature force applies sigma itself; the cohesion's calibration
+// (kCohesionCalibration) was fitted once with this case at the finest
+// resolution, with the cohesion alone (docs/surface_tension.md, "The
+// model"). The coarser resolutions are predictions.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -218,7 +219,7 @@ Check fallCheck(const Resolution& coarse, const Resolution& fine, bool withinSca
             "",
             withinScatter ? "the error does not grow with resolution"
                           : "the error shrinks with resolution",
-            fmt::format("issue 27: over three resolutions; the means of {} samplings each{}",
+            fmt::format("over three resolutions; the means of {} samplings each{}",
                         coarse.runs.size(),
                         withinScatter ? ", within the difference's standard error" : ""),
             Check::Bound::AtMost};
@@ -275,7 +276,7 @@ CaseResult run(const Options& options) {
         {fmt::format("mean omega_0 / omega_Rayleigh at {:.0f} particles across", finest.across()),
          detail::sampleMean(ratios).mean, 1.0, 0.1, "",
          "Rayleigh 1879: omega^2 = 8 sigma / (rho R^3)",
-         fmt::format("10 % at the finest resolution (issue 27), the mean of {} samplings",
+         fmt::format("10 % at the finest resolution, the mean of {} samplings",
                      samplings)});
     result.checks.push_back(fallCheck(levels[0], levels[1], false));
     result.checks.push_back(fallCheck(levels[1], levels[2], true));

@@ -273,7 +273,7 @@ CaseResult run(const Options& options) {
                      1e3 * viscous.back().radius, kNu),
          fineExcess / double(kNu), 1.0, 0.1, "",
          "Navier-Stokes: the mode decays as exp(-2 nu k^2 t)",
-         "10 % (issue 28): the SPH Laplacian converges to nu lap v; PBF's own dissipation, "
+         "10 %: the SPH Laplacian converges to nu lap v; PBF's own dissipation, "
          "measured with nu = 0 in the same setup, is subtracted"});
     result.checks.push_back(
         convergenceCheck(viscosityStudy,

@@ -181,12 +181,12 @@ CaseResult run(const Options& options) {
 
     result.checks.push_back({"contact angle falls as adhesion rises (1: yes)", falling ? 1.0 : 0.0,
                              1.0, 0.0, "", "Young-Dupre: cos(theta) = 2 a - 1",
-                             "monotonic in a, as issue 27 asks"});
+                             "monotonic in a: more adhesion wets more"});
     // Young-Dupre is shown beside the measured angles (plot, notes), not
-    // checked: the angles come out 13-32 degrees above it and level off
-    // near 85-95 degrees above a = 0.5, where the collision rather than
-    // the pressure bears the adhesion's pull (docs/surface_tension.md,
-    // item 15).
+    // checked: the angles lie above it at a = 0.2 and below it from
+    // a = 0.4 (the curvature force has no liquid-solid tension of its own:
+    // the walls are not in g, so the adhesion spreads the wetted drops
+    // further; docs/surface_tension.md, Limits).
     result.checks.push_back({"drop with adhesion 0.8 on a vertical wall: fall in 0.2 s", fallWith,
                              0.0, 0.1 * freeFall, "m", "hangs (0)",
                              "a tenth of free fall: it may creep, not fall", Check::Bound::AtMost});

@@ -137,7 +137,7 @@ FrameResult World::stepFrame() {
         double elapsed = 0.0;
         std::vector<Vec3> emitted;
         // The bodies' contact world is rebuilt from their states once per
-        // frame (world/contact_world.hpp); its time counts as `bodies`.
+        // frame (bodies/contact_world.hpp); its time counts as `bodies`.
         const auto beginStart = std::chrono::steady_clock::now();
         bodies_->beginFrame(frameDt);
         const double beginMs =
@@ -156,7 +156,7 @@ FrameResult World::stepFrame() {
                 const std::vector<Vec3> velocities(emitted.size(), emitter.velocity());
                 backend_->append(emitted, velocities, settings_.fluid.restDensity);
             }
-            // Two-way coupling (world/rigid_bodies.hpp): the fluid steps
+            // Two-way coupling (bodies/rigid_bodies.hpp): the fluid steps
             // against the bodies' surfaces where they will be, then its
             // reaction moves the bodies.
             // Both halves of the bodies' work per substep (placing the

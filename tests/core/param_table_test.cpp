@@ -91,6 +91,49 @@ TEST(ParamTable, EveryNumericRowIsValidatedAgainstItsRange) {
     }
 }
 
+// Each row reads and writes its own member: writing one row changes no
+// other row's value. A row bound to another row's member (the table says
+// every member has one row, so a wrong binding is always such a pair) is
+// caught here, where reading back through the same row cannot catch it.
+TEST(ParamTable, WritingARowChangesOnlyThatRow) {
+    const pbf::SimulationParams defaults;
+    for (const ParamInfo& p : pbf::paramTable()) {
+        pbf::SimulationParams params = defaults;
+        const ParamValue value = otherValidValue(p);
+        p.set(params, value);
+        EXPECT_EQ(jsonOf(p.get(params)), jsonOf(value)) << p.path;
+        for (const ParamInfo& q : pbf::paramTable()) {
+            if (&q == &p) continue;
+            EXPECT_EQ(jsonOf(q.get(params)), jsonOf(q.get(defaults)))
+                << "writing " << p.path << " changed " << q.path
+                << ": the two rows are bound to the same member";
+        }
+    }
+}
+
+// A value written as a bound is in range: a float row compares its member
+// (the value rounded to float) with the bound rounded the same way
+// (particle_radius = 1e-5 was refused as "must be in [1e-05, 1], got 1e-05").
+TEST(ParamTable, EveryNumericRowAcceptsItsClosedBounds) {
+    for (const ParamInfo& p : pbf::paramTable()) {
+        if ((p.type != ParamType::Float && p.type != ParamType::Int) || !p.range.hiParam.empty())
+            continue;
+        for (const auto& [bound, open] :
+             {std::pair{p.range.lo, p.range.loOpen}, std::pair{p.range.hi, p.range.hiOpen}}) {
+            if (open) continue;
+            pbf::SimulationParams params;
+            if (p.type == ParamType::Float)
+                p.set(params, float(bound));
+            else
+                p.set(params, int(bound));
+            EXPECT_EQ(p.check(params), "") << p.path << " = " << bound;
+        }
+    }
+    const pbf::Scene scene =
+        pbf::parseScene(pbf::test::smallSceneJson(), "small.json", {{"solver.relaxation", "1e-6"}});
+    EXPECT_FLOAT_EQ(scene.simulation.solver.relaxation, 1e-6f);
+}
+
 TEST(ParamTable, DefaultsAreValidAndRowsAreUnique) {
     EXPECT_EQ(pbf::validate(pbf::SimulationParams{}), "");
     for (const ParamInfo& p : pbf::paramTable()) {

@@ -4,7 +4,7 @@
 // site outside the cube within reach gets the flat-wall density scaled by
 // the density map; the exact answer is the kernel sum over the lattice sites
 // inside the cube. This is the check that found the density map's
-// quadrature tie of issue 28 (at r = 5 mm the ratio at the centre of a face
+// quadrature tie (at r = 5 mm the ratio at the centre of a face
 // was 0.57 instead of 1: mean density error -3 %, worst -8 % on the faces).
 #include "geometry/boundary_scale.hpp"
 

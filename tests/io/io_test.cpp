@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "pbf/io/scene.hpp"
 #include "support/test_util.hpp"
@@ -73,15 +76,50 @@ TEST(Ply, TruncatedAndForeignFilesAreRejected) {
     fs::remove_all(dir);
 }
 
-TEST(AtomicWrite, LeavesNoTemporaryAndReplacesWhole) {
+std::string readWhole(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::size_t filesIn(const fs::path& dir) {
+    return std::size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// A reader never sees a partial file: while the new content is being
+// written, the path still holds the old content whole, and afterwards the
+// new one whole. (A writer that opens the path itself and writes in place
+// shows a truncated file here.)
+TEST(AtomicWrite, ThePathHoldsTheOldFileWholeUntilTheNewOneIsComplete) {
     const fs::path dir = freshDirectory("atomic");
-    pbf::writeFileAtomically(dir / "a.txt", [](std::ostream& out) { out << "first"; });
-    pbf::writeFileAtomically(dir / "a.txt", [](std::ostream& out) { out << "second"; });
-    std::ifstream in(dir / "a.txt");
-    std::string text;
-    in >> text;
-    EXPECT_EQ(text, "second");
-    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
+    const fs::path path = dir / "a.txt";
+    pbf::writeFileAtomically(path, [](std::ostream& out) { out << "first"; });
+    std::string seenDuringWrite;
+    pbf::writeFileAtomically(path, [&](std::ostream& out) {
+        out << "sec";
+        out.flush();
+        seenDuringWrite = readWhole(path);
+        out << "ond";
+    });
+    EXPECT_EQ(seenDuringWrite, "first");
+    EXPECT_EQ(readWhole(path), "second");
+    EXPECT_EQ(filesIn(dir), 1u);  // no temporary left
+    fs::remove_all(dir);
+}
+
+// A writer that fails half way leaves the old file as it was and nothing
+// beside it, and the failure reaches the caller.
+TEST(AtomicWrite, AWriterThatThrowsLeavesTheOldFileAndNoTemporary) {
+    const fs::path dir = freshDirectory("atomic_throw");
+    const fs::path path = dir / "a.txt";
+    pbf::writeFileAtomically(path, [](std::ostream& out) { out << "first"; });
+    EXPECT_THROW(pbf::writeFileAtomically(path,
+                                          [](std::ostream& out) {
+                                              out << "half";
+                                              throw std::runtime_error("writer failed");
+                                          }),
+                 std::runtime_error);
+    EXPECT_EQ(readWhole(path), "first");
+    EXPECT_EQ(filesIn(dir), 1u);
     fs::remove_all(dir);
 }
 

@@ -183,7 +183,7 @@ FlatnessFigures topFlatness(const TriangleMesh& mesh, float depth, float side) {
 }
 
 // A tank settled by the solver (not a lattice: the particles carry PBF's
-// own packing noise), meshed with both methods. Issue 15's check: the
+// own packing noise), meshed with both methods. Checked: the
 // anisotropic free surface within RMS 0.1 r of its plane and at most 0.5 r
 // anywhere, and flatter than the isotropic method's on the same particles.
 TEST(Surface, RestingTankMeshesToAFlatFreeSurface) {
@@ -314,8 +314,8 @@ TEST_P(SurfaceMethods, AdaptiveMeshesAreWatertightAndSmaller) {
     EXPECT_NEAR(ratio, 1.0, GetParam() == SurfaceMethod::isotropic ? 0.02 : 0.05);
 }
 
-// Issue 15's check "a sphere of water keeps today's volume and area
-// accuracy or better": the anisotropic ball against the isotropic one.
+// A sphere of water keeps the isotropic method's volume and area accuracy
+// or better: the anisotropic ball against the isotropic one.
 TEST(Surface, AnisotropicBallIsAtLeastAsAccurateAsIsotropic) {
     const std::vector<Vec3> particles = ball(0.12f);
     const double fluidVolume = double(particles.size()) * 8.0 * kR * kR * kR;

@@ -33,10 +33,13 @@ struct FluidParams {
     // dimensionless: acceleration = epsilon * h * |omega| * (N x omega). [0, 10].
     float vorticity = 0.0f;
     // Surface tension sigma, N/m (water at 20 C: 0.0728), [0, 10]; 0: off.
-    // Pairwise cohesion (Akinci, Akinci & Teschner 2013, eq. 1-2) whose
-    // strength is derived from sigma on the rest lattice (SolverConstants),
-    // so that a drop has the Laplace pressure 2 sigma / R and the Rayleigh
-    // frequency of real water (docs/surface_tension.md).
+    // Two forces (docs/surface_tension.md, "The model"): the curvature force
+    // sigma kappa on the surface band (Brackbill, Kothe & Zemach 1992; sigma
+    // itself, its factors measured on the particles), which gives a drop the
+    // Laplace pressure 2 sigma / R and Rayleigh's frequency, and the surface
+    // layer's pair cohesion, derived from sigma on the rest lattice
+    // (SolverConstants), which holds outlying particles. The walls' and
+    // solids' adhesion is derived from it as well.
     float surfaceTension = 0.0f;
 };
 
@@ -89,7 +92,7 @@ struct SolverParams {
     // on the dam break (docs/performance.md, "Accuracy per cost"); 1 feeds
     // energy into violent flows, and so do fewer than ~4 iterations. Not
     // chosen automatically with a tolerance: it makes water at rest boil
-    // (issue 28: a resting tank reaches 0.3 m/s median speed with 0.8 and
+    // (a resting tank reaches 0.3 m/s median speed with 0.8 and
     // 4 to 30 iterations, at r = 10, 5 and 2.5 mm; docs/performance.md).
     float warmStart = 0.0f;  // [0, 1]
     // Constraint-force-mixing epsilon of paper eq. 11, relative to the rest

@@ -30,12 +30,9 @@ namespace pbf {
 
 class BoundaryScale;  // src/geometry/boundary_scale.hpp
 
-// A solid's shape as plain data, in its own frame: what a backend that
-// evaluates the shape away from the host objects (the GPU backend,
-// src/backend/gpu) needs. Analytic shapes give their parameters (the same
-// distance functions then run there, src/geometry/shape_distance.hpp); other
-// shapes their distance field sampled on a grid (trilinear in between).
-struct ShapeData {
+// ShapeData's fixed-size part: plain data that a device copies whole (the
+// GPU backend's DeviceShape derives from it).
+struct ShapeParameters {
     enum class Kind { Box, Sphere, Plane, Cylinder, Samples };
     Kind kind = Kind::Samples;
     Aabb box;             // Box
@@ -44,15 +41,24 @@ struct ShapeData {
     Vec3 point, normal;   // Plane (unit normal)
     Vec3 base, axis;      // Cylinder (unit axis)
     float height = 0.0f;  // Cylinder
+    // Samples: the value beyond the nodes, and the offset subtracted from
+    // the interpolated value (an open mesh's shell half-thickness).
+    float outside = 0.0f;
+    float offset = 0.0f;
+};
+
+// A solid's shape as plain data, in its own frame: what a backend that
+// evaluates the shape away from the host objects (the GPU backend,
+// src/backend/gpu) needs. Analytic shapes give their parameters (the same
+// distance functions then run there, src/geometry/shape_distance.hpp); other
+// shapes their distance field sampled on a grid (trilinear in between).
+struct ShapeData : ShapeParameters {
     // Samples: signed distances at the nodes origin + (i, j, k) * spacing
-    // (i fastest), `outside` beyond them; `offset` is subtracted from the
-    // interpolated value (an open mesh's shell half-thickness).
+    // (i fastest).
     Vec3 origin;
     float spacing = 0.0f;
     int nx = 0, ny = 0, nz = 0;
     std::vector<float> values;
-    float outside = 0.0f;
-    float offset = 0.0f;
 };
 
 class Solid {
@@ -138,8 +144,11 @@ class SolidSet {
     // while queries run.
     void buildIndex(const Aabb& box, float margin);
 
-  private:
+    // The signed distance to solid k placed by its pose, its outward normal
+    // into `normal` (no reach test).
     float distanceTo(std::size_t k, const Vec3& p, Vec3& normal) const;
+
+  private:
     struct Index {
         bool valid = false;
         Aabb box;

@@ -4,11 +4,13 @@
 // renamed over it, so a killed run never leaves a half-written frame.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <istream>
 #include <ostream>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -40,6 +42,21 @@ struct ParticleFrame {
     std::vector<float> density;
     std::vector<std::uint32_t> id;
 };
+
+// One property of a PLY vertex: its type ("float", "uint" or "uchar") and name.
+struct PlyProperty {
+    std::string_view type;
+    std::string_view name;
+};
+
+// A binary little-endian PLY of `count` vertices with these properties, in
+// this order, written atomically: fill(k, record) writes vertex k's values
+// packed in property order (4 bytes for float and uint, 1 for uchar) into
+// `record`. `comment` names the writer. The one PLY writer of pbf
+// (particles here, white water in pbf_surface). Throws IoError.
+void writeVertexPly(const std::filesystem::path& path, std::string_view comment,
+                    std::span<const PlyProperty> properties, std::size_t count,
+                    const std::function<void(std::size_t k, char* record)>& fill);
 
 // Binary little-endian PLY, one vertex per particle with the properties
 // x y z vx vy vz density (float) and id (uint), in id order. Blender,

@@ -208,7 +208,7 @@ void Solver::buildPlan() {
                                 });
                             },
                             vorticityOn});
-    // Surface tension (issue 27): cohesion of the surface layer and
+    // Surface tension: cohesion of the surface layer and
     // adhesion, v += dt a at x*. Reads the neighbours' x* and density (the
     // ghosts' are current after the iterations): no exchange of its own.
     plan_.add(Part::After,

@@ -9,7 +9,8 @@
 //   velocity       v = (x* - x) / dt                           (l. 21)
 //   post-process   vorticity confinement, XSPH viscosity       (l. 22)
 //   surface tension cohesion of the surface layer, adhesion: v += dt a;
-//                  the continuum surface stress T_i, then v += dt a of its force
+//                  the curvature force: g_i, the band's normals nb_i, kappa_i,
+//                  then v += dt a of sigma kappa on the surface band
 //   wall response  restitution and friction on the domain walls
 //   commit         x = x*                                      (l. 23)
 // Every stage is a function over particle ranges in solver_stages.hpp; the

@@ -53,6 +53,9 @@ struct StageOutputs {
 
 namespace on_gpu {
 DeviceStatus status();
+// The bytes a DeviceBackend of this build holds in the arrays of the two
+// lists above (by their sizes, not capacities).
+std::size_t particleArrayBytes(const Backend& backend);
 // Throws std::runtime_error naming the device when it cannot run here.
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
 StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
@@ -62,6 +65,7 @@ StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
 
 namespace on_cpu {
 DeviceStatus status();
+std::size_t particleArrayBytes(const Backend& backend);
 std::unique_ptr<Backend> makeBackend(const SimulationParams& params, const BackendOptions& options);
 StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
                        std::span<const Vec3> x, std::span<const Vec3> xStar, float dt,
@@ -73,5 +77,10 @@ StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
 // records when a solid is coupled (rigid bodies) and the sparse grid.
 // device_memory.cpp; the backend's diagnostics are tested against it.
 std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids);
+// Its part in arrays of exactly one element per particle: the particle
+// fields and the step arrays (device_step_arrays.hpp) these settings use.
+// A running backend's figure (particleArrayBytes(const Backend&)) is tested
+// against it.
+std::size_t particleArrayBytes(const SimulationParams& params, bool coupledSolids);
 
 }  // namespace pbf::gpu

@@ -67,6 +67,7 @@
 #include "backend/gpu/device_backend.hpp"
 #include "backend/gpu/device_kernels.hpp"
 #include "backend/gpu/device_solids.hpp"
+#include "backend/gpu/device_step_arrays.hpp"
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
 #include "geometry/boundary_scale.hpp"
@@ -127,6 +128,9 @@ struct DeviceFloat3 {
     Float3View view() { return {raw(x), raw(y), raw(z)}; }
     std::size_t bytes() const { return bytesOf(x) + bytesOf(y) + bytesOf(z); }
 };
+inline std::size_t bytesOf(const DeviceFloat3& a) {
+    return a.bytes();
+}
 
 // Thrust's temporary buffers (the sort's, the reductions'), passed as
 // thrust::device(allocator): blocks of device memory kept between calls
@@ -274,17 +278,7 @@ class DeviceSolidStore {
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const ShapeData d = keys[k]->shapeData(spacing, margin);
             DeviceShape& s = shapes[k];
-            s.kind = d.kind;
-            s.box = d.box;
-            s.center = d.center;
-            s.radius = d.radius;
-            s.point = d.point;
-            s.normal = d.normal;
-            s.base = d.base;
-            s.axis = d.axis;
-            s.height = d.height;
-            s.outside = d.outside;
-            s.offset = d.offset;
+            static_cast<ShapeParameters&>(s) = d;
             if (d.kind == ShapeData::Kind::Samples) {
                 s.samples = {d.origin, 1.0f / d.spacing, d.nx, d.ny, d.nz, nullptr};
                 offsets[k] = values.size();
@@ -709,23 +703,16 @@ class DeviceBackend final : public Backend {
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
         setOptionalField(ParticleField::solveAcceleration, warm);
-        corrected_.resize(n);
-        lambda_.resize(n);
         keys_.resize(n);
         order_.resize(n);
-        if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
-            params.fluid.kinematicViscosity > 0.0f)
-            post_.resize(n);
-        if (params.fluid.vorticity > 0.0f) vorticity_.resize(n);
-        if (params.fluid.surfaceTension > 0.0f) resizeCurvature(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
+        // The step arrays these settings use (device_step_arrays.hpp).
+#define PBF_SIZE_STEP_ARRAY(name, type, components, use)                        \
+    if (stepArrayInUse(StepArrayUse::use, params, reactionsActive_)) name##_.resize(n);
+        PBF_DEVICE_STEP_ARRAYS(PBF_SIZE_STEP_ARRAY)
+#undef PBF_SIZE_STEP_ARRAY
         if (reactionsActive_) {
             solidCount_ = solids.solids.count;
-            for (ReactionRecords& r : records_) {
-                r.solid.resize(n);
-                r.at.resize(n);
-                r.move.resize(n);
-            }
             const std::size_t blocks = (n + detail::kBlockSize - 1) / detail::kBlockSize;
             reactionSums_.resize(blocks * solidCount_ * 6);
             thrust::fill(reactionSums_.begin(), reactionSums_.end(), 0.0);
@@ -748,8 +735,8 @@ class DeviceBackend final : public Backend {
 
     ReactionSlot slot(int k) {
         if (!reactionsActive_) return {};
-        ReactionRecords& r = records_[k];
-        return {raw(r.solid), r.at.view(), r.move.view()};
+        if (k == 0) return {raw(reactionSolid0_), reactionAt0_.view(), reactionMove0_.view()};
+        return {raw(reactionSolid1_), reactionAt1_.view(), reactionMove1_.view()};
     }
 
     // Adds the records of the last recording stage (slots [0, slots)) to the
@@ -961,7 +948,7 @@ class DeviceBackend final : public Backend {
                                                                    {raw(p_.density)}});
                                 },
                                 vorticityOn});
-        // Surface tension (issue 27): cohesion and adhesion at x*, v += dt a;
+        // Surface tension: cohesion and adhesion at x*, v += dt a;
         // a coupled solid's pull is folded into its reaction (as the CPU's
         // ReactionAccumulator records it, between confinement and the response).
         plan_.add(Part::After,
@@ -1102,26 +1089,41 @@ class DeviceBackend final : public Backend {
     std::size_t memoryBytes() const {
         std::size_t bytes = 0;
         forEachDeviceArray(p_, [&](std::size_t, const auto& array) { bytes += bytesOf(array); });
-        bytes += corrected_.bytes() + post_.bytes() + vorticity_.bytes();
-        bytes += colourGradient_.bytes() + bandNormal_.bytes() + bytesOf(curvature_);
-        bytes += bytesOf(lambda_) + bytesOf(keys_) + bytesOf(order_) + bytesOf(keysAlt_) +
-                 bytesOf(orderAlt_) + bytesOf(sortTemp_) + bytesOf(particleCell_);
+#define PBF_STEP_ARRAY_CAPACITY(name, type, components, use) bytes += bytesOf(name##_);
+        PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_CAPACITY)
+#undef PBF_STEP_ARRAY_CAPACITY
+        bytes += bytesOf(keys_) + bytesOf(order_) + bytesOf(keysAlt_) + bytesOf(orderAlt_) +
+                 bytesOf(sortTemp_) + bytesOf(particleCell_);
         bytes += bytesOf(cellKey_) + bytesOf(cellStart_) + bytesOf(blockOfCell_) +
                  bytesOf(cellBlock_) + bytesOf(blockKey_) + bytesOf(blockMask_) +
                  bytesOf(blockFirstCell_) + bytesOf(blockNeighbors_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
         bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
-        for (const ReactionRecords& r : records_)
-            bytes += bytesOf(r.solid) + r.at.bytes() + r.move.bytes();
         bytes += bytesOf(reactionSums_) + bytesOf(reactionTotals_) + solids_.bytes();
         bytes += scratch_.bytes();  // the sort's and the reductions' buffers
         return bytes;
     }
 
-    struct ReactionRecords {
-        DeviceArray<std::uint32_t> solid;
-        DeviceFloat3 at, move;
-    };
+  public:
+    // The bytes held in the particle fields and the step arrays, by their
+    // sizes (device_backend.hpp: tested against the memory table).
+    std::size_t particleArrayBytes() const {
+        std::size_t bytes = 0;
+        const auto add = [&bytes](const auto& array) {
+            using T = typename std::decay_t<decltype(array)>::value_type;
+            bytes += array.size() * sizeof(T);
+        };
+        forEachDeviceArray(p_, [&](std::size_t, const auto& array) { add(array); });
+        const auto addField = [&](const auto& field) {
+            for (const auto* array : componentsOf(field)) add(*array);
+        };
+#define PBF_STEP_ARRAY_SIZE(name, type, components, use) addField(name##_);
+        PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_SIZE)
+#undef PBF_STEP_ARRAY_SIZE
+        return bytes;
+    }
+
+  private:
 
     BackendKind kind_;
     cell_key::CellFrame frame_;  // cells of the kernel radius from the domain's corner
@@ -1132,16 +1134,12 @@ class DeviceBackend final : public Backend {
     StepPlan<DeviceStep> plan_;
     mutable DeviceSolidStore solids_;   // refreshed by every call given solids
     mutable ScratchAllocator scratch_;  // Thrust's temporary buffers
-    // The step's scratch.
-    DeviceFloat3 corrected_;  // the correction pass's output (Jacobi)
-    DeviceFloat3 post_;       // v after XSPH and confinement (Jacobi)
-    DeviceFloat3 vorticity_;  // omega, while confinement is on
-    DeviceArray<float> lambda_;
-    // The curvature force's g_i, nb_i and kappa_i, while surface tension is on.
-    DeviceFloat3 colourGradient_, bandNormal_;
-    DeviceArray<float> curvature_;
-    // The sort (keys, order; the radix sort's second buffers and scratch)
-    // and the sparse grid (sortByCell).
+    // The step's arrays, one element per particle (device_step_arrays.hpp).
+#define PBF_STEP_ARRAY_MEMBER(name, type, components, use) DeviceFieldArray<type, components> name##_;
+    PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_MEMBER)
+#undef PBF_STEP_ARRAY_MEMBER
+    // The step's other scratch: the sort (keys, order; the radix sort's
+    // second buffers and scratch) and the sparse grid (sortByCell).
     DeviceArray<std::uint64_t> keys_, keysAlt_;
     DeviceArray<std::uint32_t> order_, orderAlt_;
     DeviceArray<std::uint8_t> sortTemp_;
@@ -1154,10 +1152,10 @@ class DeviceBackend final : public Backend {
     DeviceArray<float> gatherFloat_;
     DeviceArray<std::uint32_t> gatherIndex_;
     mutable DeviceArray<detail::StatisticsPartial> partials_;
-    // Coupled solids' reactions: two record slots, per-block sums, totals.
+    // Coupled solids' reactions: two record slots (step arrays), per-block
+    // sums, totals.
     bool reactionsActive_ = false;
     std::uint32_t solidCount_ = 0;
-    ReactionRecords records_[2];
     DeviceArray<double> reactionSums_;
     DeviceArray<double> reactionTotals_;
     std::vector<SolidReaction> lastReactions_;
@@ -1175,6 +1173,10 @@ StageOutputs runStages(const SimulationParams& params, const SolidSet* solids,
     const SolverConstants constants = SolverConstants::from(params);
     DeviceBackend backend(PBF_DEVICE_KIND, params);
     return backend.runStages({params, constants, solids}, x, xStar, dt, surfaceTension);
+}
+
+std::size_t particleArrayBytes(const Backend& backend) {
+    return dynamic_cast<const DeviceBackend&>(backend).particleArrayBytes();
 }
 
 }  // namespace pbf::gpu::PBF_DEVICE_NAMESPACE

@@ -20,6 +20,7 @@
 #include "backend/gpu/device_solids.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_sums.hpp"
+#include "backend/statistics_partial.hpp"
 #include "core/blocks.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
@@ -381,7 +382,7 @@ struct PhysicalViscosityKernel {
     }
 };
 
-// Surface tension (issue 27): the cohesion of the surface layer and the
+// Surface tension: the cohesion of the surface layer and the
 // walls' and solids' adhesion at the end-of-step x* with the last density
 // pass's rho (reference::surfaceTensionOf), v_i += dt a_i. Reads only the
 // neighbours' x* and rho, so it adds to v in place. Records a coupled
@@ -544,7 +545,7 @@ struct BadIndex {
 };
 
 // The statistics' partial sums of block b, in index order
-// (core/particle_checks.hpp, as core/statistics.cpp sums them).
+// (backend/statistics_partial.hpp, as backend/statistics.cpp sums them).
 struct StatisticsBlock {
     SolverConstants c;
     Aabb domain;

@@ -1,23 +1,46 @@
-// The GPU backend's memory per particle (backend/gpu/device_backend.hpp):
-// the arrays DeviceBackend allocates (device_backend_impl.hpp), listed here
-// so that a scene can be refused before anything is allocated.
+// The GPU backend's memory per particle (backend/gpu/device_backend.hpp),
+// so that a scene can be refused before anything is allocated. The arrays
+// sized per particle come from the lists DeviceBackend is built from: the
+// particle fields (include/pbf/core/particle_fields.hpp) and the step arrays
+// (device_step_arrays.hpp); the search's and the sparse grid's arrays are
+// sized here by hand.
 #include <cstdint>
 
 #include "backend/gpu/device_backend.hpp"
+#include "backend/gpu/device_step_arrays.hpp"
+#include "pbf/core/particle_fields.hpp"
 
 namespace pbf::gpu {
 
+std::size_t particleArrayBytes(const SimulationParams& params, bool coupledSolids) {
+    std::size_t bytes = 0;
+    // The particle fields; an optional one only while its feature is on.
+    const auto fieldInUse = [&](ParticleField field, ParticleFieldKind kind) {
+        if (kind != ParticleFieldKind::Optional) return true;
+        if (field == ParticleField::solveAcceleration) return params.solver.warmStart > 0.0f;
+        return true;  // a field added to the list: counted
+    };
+#define PBF_FIELD_BYTES(name, type, components, unit, kind, description) \
+    if (fieldInUse(ParticleField::name, ParticleFieldKind::kind))        \
+        bytes += std::size_t{components} * sizeof(type);
+    PBF_PARTICLE_FIELDS(PBF_FIELD_BYTES)
+#undef PBF_FIELD_BYTES
+    // The step arrays the settings need.
+#define PBF_STEP_ARRAY_BYTES(name, type, components, use)         \
+    if (stepArrayInUse(StepArrayUse::use, params, coupledSolids)) \
+        bytes += std::size_t{components} * sizeof(type);
+    PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_BYTES)
+#undef PBF_STEP_ARRAY_BYTES
+    return bytes;
+}
+
 std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids) {
-    constexpr std::size_t vec3 = 3 * sizeof(float);
-    constexpr std::size_t scalar = sizeof(float);
-    // The state: x, x*, v, rho, id.
-    std::size_t bytes = 3 * vec3 + 2 * scalar;
-    if (params.solver.warmStart > 0.0f) bytes += vec3;  // the last substep's acceleration
-    // The step's scratch: the corrected x* (Jacobi), lambda, one gather
-    // buffer; the sort's 64-bit cell keys and order, its second buffers of
-    // both, and each particle's cell.
-    bytes += vec3 + 2 * scalar;
-    bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t);
+    std::size_t bytes = particleArrayBytes(params, coupledSolids);
+    // The search: the 64-bit cell keys and the sort's order, the radix
+    // sort's second buffers of both, each particle's cell, and the reorder's
+    // two gather buffers (float fields, the ids).
+    bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t) +
+             2 * sizeof(std::uint32_t);
     // The sparse grid (backend/sparse_grid.hpp), planned at a cell per two
     // particles (water at rest has about eight per cell; spray fewer) and
     // a 4x4x4 block per eight: per cell its key, start, block key and block;
@@ -29,15 +52,6 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // 26-33 within h = 2 spacings; the dam break averages 28.5, the list
     // keeps an eighth spare).
     bytes += sizeof(std::uint64_t) + 40 * sizeof(std::uint32_t);
-    // v after XSPH, or before it for the physical viscosity's Jacobi read.
-    if (params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
-        params.fluid.kinematicViscosity > 0.0f)
-        bytes += vec3;
-    if (params.fluid.vorticity > 0.0f) bytes += vec3;  // omega
-    // The continuum surface stress T_i: six floats.
-    if (params.fluid.surfaceTension > 0.0f) bytes += 6 * scalar;
-    // Two slots of reaction records (solid, x, d) for coupled solids.
-    if (coupledSolids) bytes += 2 * (scalar + 2 * vec3);
     return bytes;
 }
 

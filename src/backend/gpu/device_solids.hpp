@@ -7,7 +7,7 @@
 // their own frame (Solid::shapeData: a mesh gives its level set's voxels,
 // so the device interpolates the same values the host does). Every solid
 // is placed by its pose and moves with its motion, uploaded before every
-// step; a body's boundary-density ratio grid (world/boundary_scale.hpp) is
+// step; a body's boundary-density ratio grid (geometry/boundary_scale.hpp) is
 // queried in the body's frame as on the host.
 //
 // The queries visit the solids in index order and keep the first nearest,
@@ -25,18 +25,10 @@
 
 namespace pbf::gpu::PBF_DEVICE_NAMESPACE {
 
-// One shape in its own frame (ShapeData without the host vector).
-struct DeviceShape {
-    ShapeData::Kind kind = ShapeData::Kind::Box;
-    Aabb box;
-    Vec3 center;
-    float radius = 0.0f;
-    Vec3 point, normal;
-    Vec3 base, axis;
-    float height = 0.0f;
+// One shape in its own frame: ShapeData's fixed-size part, copied whole,
+// and its samples in device memory.
+struct DeviceShape : ShapeParameters {
     shape::GridSamples samples;  // Samples: values in device memory
-    float outside = 0.0f;
-    float offset = 0.0f;
 
     PBF_HD float signedDistance(const Vec3& p, Vec3& n) const {
         switch (kind) {
@@ -79,30 +71,16 @@ struct DeviceSolids {
     }
 
     PBF_HD float distanceTo(std::size_t k, const Vec3& p, Vec3& n) const {
-        if (identity[k]) return shapes[k].signedDistance(p, n);
-        const Pose& pose = motions[k].pose;
-        Vec3 localNormal;
-        const float d = shapes[k].signedDistance(pose.toLocal(p), localNormal);
-        n = pose.directionToWorld(localNormal);
-        return d;
+        return shape::posedDistance(shapes[k], identity[k] != 0, motions[k].pose, p, n);
     }
 
     // SolidSet::signedDistance: the smallest signed distance over the solids
     // whose bounds lie within `reach` of p, else `reach`.
     PBF_HD float signedDistance(const Vec3& p, float reach, Vec3& n,
                                 std::size_t* nearest = nullptr) const {
-        float best = reach;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            if (!shape::withinReach(bounds[k], p, reach)) continue;
-            Vec3 candidate;
-            const float d = distanceTo(k, p, candidate);
-            if (d < best) {
-                best = d;
-                n = candidate;
-                if (nearest) *nearest = k;
-            }
-        }
-        return best;
+        shape::NearestSolid best(reach);
+        for (std::uint32_t k = 0; k < count; ++k) best.offer(*this, k, bounds[k], p, reach);
+        return best.result(n, nearest);
     }
 };
 

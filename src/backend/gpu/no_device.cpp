@@ -29,6 +29,9 @@ StageOutputs on_gpu::runStages(const SimulationParams&, const SolidSet*, std::sp
                                std::span<const Vec3>, float, const SimulationParams*) {
     unavailable(status(), "cuda");
 }
+std::size_t on_gpu::particleArrayBytes(const Backend&) {
+    unavailable(status(), "cuda");
+}
 #endif
 
 #if defined(PBF_NO_THRUST_BUILD)
@@ -44,6 +47,9 @@ std::unique_ptr<Backend> on_cpu::makeBackend(const SimulationParams&, const Back
 }
 StageOutputs on_cpu::runStages(const SimulationParams&, const SolidSet*, std::span<const Vec3>,
                                std::span<const Vec3>, float, const SimulationParams*) {
+    unavailable(status(), "cuda-on-cpu");
+}
+std::size_t on_cpu::particleArrayBytes(const Backend&) {
     unavailable(status(), "cuda-on-cpu");
 }
 #endif

@@ -2,7 +2,7 @@
 // Based Fluids", ACM TOG 32(4)), one short scalar function each, written to
 // be read beside the paper (private header).
 //
-// These are the oracle the fast paths are tested against (STYLE.md, item 13):
+// These are the oracle the fast paths are tested against (STYLE.md: a readable reference beside the fast path):
 // the SIMD passes of backend/cpu/neighbor_passes.cpp compute the same
 // quantities with other summation orders. Plain floats, pbf::Vec3 and
 // SolverConstants only, and PBF_HD, so that a CUDA kernel can call them too.
@@ -269,15 +269,15 @@ PBF_HD inline Vec3 adhesionAcceleration(const SolverConstants& c, const Vec3& pu
 //
 // The cohesion above holds outlying particles but no static tension: its
 // in-plane pull compresses the layer until the density constraint pushes
-// back (docs/surface_tension.md, items 8-9). The tension's pressure jump
+// back. The tension's pressure jump
 // sigma kappa is applied as the continuum surface force (Brackbill, Kothe &
 // Zemach 1992, J. Comput. Phys. 100, eq. 21; Morris 2000, Int. J. Numer.
 // Meth. Fluids 33, for SPH) on the particles of the surface band:
 //   g_i = sum_j V grad W_ij            (V = m / rho0, spiky: grad c, 1/m)
 //   A_i = max(|g_i| - g0 / d, 0),      n_i = -g_i / |g_i| (outward)
 //   a_i = -sigma kappa_i delta_i n_i / rho0
-// with both factors measured, not calibrated (docs/surface_tension.md, item
-// 20, and item 19 for what each choice below fixed):
+// with both factors measured, not calibrated (docs/surface_tension.md,
+// "The model"):
 //  - kappa from the surface's own geometry: on a sphere of radius R,
 //    (n_i - n_j) . x_ij = |x_ij|^2 / R, so over the band's neighbours, in
 //    least squares, kappa_i = 2 sum W (nb_i - nb_j) . x_ij / sum W |x_ij,t|^2
@@ -374,8 +374,8 @@ PBF_HD inline Vec3 curvatureForceVelocityChange(const SolverConstants& c, float 
 // ---- Physical viscosity (an addition to the paper) ---------------------------
 //
 // XSPH (eq. 17) smooths velocities by a fraction c per step: its viscosity
-// depends on dt and the resolution and is not a material constant (issue
-// 28 measured it). `fluid.kinematic_viscosity` nu (m^2/s) adds the SPH
+// depends on dt and the resolution and is not a material constant
+// (docs/validation.md, Taylor-Green). `fluid.kinematic_viscosity` nu (m^2/s) adds the SPH
 // Laplacian of the velocity that SPH codes use for a physical viscosity
 // (Monaghan 2005, "Smoothed particle hydrodynamics", Rep. Prog. Phys. 68,
 // sec. 6.1; SPlisHSPlasH's standard viscosity), a_i = nu lap v_i with

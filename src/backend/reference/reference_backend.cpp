@@ -1,16 +1,26 @@
-// One PBF step, Algorithm 1 of Macklin & Mueller 2013, in the stage order of
-// the CPU backend's Solver::step (backend/cpu/solver.cpp):
-//   predict        v += dt g; x* = x + dt v, into the box, out of the solids (l. 1-4)
-//   neighbours     lists on x*, kept for every iteration               (l. 5-7)
-//   iterations     rho_i, lambda_i for all; dp_i for all; x* += dp      (l. 8-19)
-//   velocity       v = (x* - x) / dt                                    (l. 21)
-//   post-process   XSPH viscosity and vorticity confinement             (l. 22)
-//   surface tension  cohesion and adhesion (equations.hpp), v += dt a;
-//                  the continuum surface stress T_i, then its force, v += dt a
-//   wall response  restitution and friction on the walls and solids
-//   commit         x = x*                                               (l. 23)
+// One PBF step, Algorithm 1 of Macklin & Mueller 2013, as named stages in
+// the order of the Stage list (backend/step_plan.hpp), each a member
+// function below:
+//   predict                  v += dt g; x* = x + dt v; the warm start; into the
+//                            box, out of the solids                       (l. 1-4)
+//   findNeighbors            neighbours of x*, kept for every iteration  (l. 5-7)
+//   densityAndLambda         rho_i, lambda_i for all                      (l. 9-11)
+//   correctPositions         dp_i for all; collisions; x* += dp          (l. 12-19)
+//   recordSolveAcceleration  the warm start's a = (x* - x - dt v) / dt^2
+//   updateVelocity           v = (x* - x) / dt                           (l. 21)
+//   viscosityAndVorticity    XSPH viscosity; vorticity omega_i            (l. 22)
+//   physicalViscosity        v += dt nu lap v (fluid.kinematic_viscosity)
+//   vorticityConfinement     v += dt f_vorticity                          (l. 22)
+//   surfaceTension           cohesion of the surface layer and adhesion, v += dt a
+//   colourGradient, bandNormal, curvature, curvatureForce
+//                            the curvature force: g_i, nb_i, kappa_i, then
+//                            v += dt a of sigma kappa on the surface band
+//   boundaryResponse         restitution and friction on the walls and
+//                            solids; x = x*                               (l. 23)
 // and, when a solid is coupled (a rigid body), the reaction of everything
-// its boundary did to the particles (backend/reactions.hpp).
+// its boundary did to the particles (backend/reactions.hpp). The stages the
+// CPU backend adds for its memory layout (sorting, reordering, packing) and
+// the MPI backend's exchanges have no counterpart here.
 // Each stage is a loop over all particles that writes only entry i and
 // reads the previous stage's arrays (Jacobi), so the result does not depend
 // on the order of the particles within a loop.
@@ -71,180 +81,246 @@ void ReferenceBackend::commit(bool warmStart) {
 }
 
 void ReferenceBackend::step(const SolverContext& context, float dt) {
-    const SimulationParams& params = context.params;
-    const SolverConstants& c = context.constants;
-    const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
-    const Aabb& box = c.collisionBox;
-    const std::size_t n = store_.size();
     const auto stepStart = Clock::now();
     times_ = {};
     load();
-
-    // Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the
-    // sweep against the solids starts from x (no step tunnels through them).
+    const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
     // Two-way coupling (backend/reactions.hpp): every move a coupled solid's
     // boundary gives a particle is recorded; its reaction acts on the body.
-    reactions_.reset(n, solids);
-    ReactionAccumulator* reactions = reactions_.active() ? &reactions_ : nullptr;
+    reactions_.reset(store_.size(), solids);
+    const Step s{context.params, context.constants, solids, dt,
+                 reactions_.active() ? &reactions_ : nullptr};
+
     auto t = Clock::now();
-    const float warm = params.solver.warmStart;
-    for (std::size_t i = 0; i < n; ++i) {
-        velocity_[i] += dt * params.gravity;
-        predictedVelocity_[i] = velocity_[i];
-        predicted_[i] = boundary::clampToBox(box, position_[i] + dt * velocity_[i]);
-        if (warm > 0.0f)
-            predicted_[i] = boundary::clampToBox(
-                box, reference::warmStart(c, predicted_[i], solveAcceleration_[i], density_[i],
-                                          warm, dt));
-        if (solids) {
-            const Vec3 before = predicted_[i];
-            std::size_t touched = boundary::kNoSolid;
-            predicted_[i] =
-                boundary::resolveSolidCollision(c, *solids, position_[i], before, &touched);
-            if (reactions) reactions->add(i, touched, predicted_[i], predicted_[i] - before);
-        }
-    }
+    predict(s);
     times_.predict = millisecondsSince(t);
 
-    // Alg. 1 l. 5-7: neighbours of x*, found once per step.
     t = Clock::now();
-    grid_.build(predicted_);
+    findNeighbors();
     times_.neighborSearch = times_.neighborLists = millisecondsSince(t);
 
-    // Alg. 1 l. 8-19: Jacobi iterations. Every lambda is computed from the
-    // same x*, every dp from the same lambdas, then all x* move at once.
+    // Alg. 1 l. 8-19: Jacobi iterations, a fixed count or until the average
+    // compression is small enough. Every lambda is computed from the same
+    // x*, every dp from the same lambdas, then all x* move at once.
     t = Clock::now();
-    // The count: fixed, or until the average compression is small enough.
-    const IterationControl control(params.solver);
+    const IterationControl control(s.params.solver);
     for (int corrections = 0; corrections < control.maxIterations(); ++corrections) {
         auto part = Clock::now();
-        std::int64_t compression = 0;  // fixed point, as the CPU backend sums it
-        for (std::size_t i = 0; i < n; ++i) {
-            const reference::DensityAndLambda r =
-                reference::densityAndLambda(c, solids, predicted_, grid_.neighbors(i), i);
-            density_[i] = r.density;
-            lambda_[i] = r.lambda;
-            compression += fixedPointCompression(reference::densityConstraint(c, r.density));
-        }
+        const std::int64_t compression = densityAndLambda(s);
         times_.lambda += millisecondsSince(part);
-        if (control.converged(corrections, averageCompression(compression, n))) break;
+        if (control.converged(corrections, averageCompression(compression, store_.size()))) break;
         part = Clock::now();
-        for (std::size_t i = 0; i < n; ++i) {
-            const Vec3 dp = reference::positionCorrection(c, solids, predicted_, lambda_,
-                                                          grid_.neighbors(i), i);
-            // Alg. 1 l. 16-18: collision response, the box and the solids.
-            Vec3 moved = boundary::clampToBox(box, predicted_[i] + reference::overRelaxed(c, dp));
-            if (solids) {
-                const Vec3 unprojected = moved;
-                std::size_t touched = boundary::kNoSolid;
-                moved = boundary::resolveSolidCollision(c, *solids, position_[i], moved, &touched);
-                if (reactions) {
-                    const reference::SolidCorrection s =
-                        reference::solidCorrection(c, *solids, lambda_[i], predicted_[i]);
-                    reactions->add(i, s.solid, predicted_[i],
-                                   reference::overRelaxed(c, s.displacement));
-                    reactions->add(i, touched, moved, moved - unprojected);
-                }
-            }
-            corrected_[i] = moved;
-        }
-        predicted_.swap(corrected_);
+        correctPositions(s);
         times_.deltaP += millisecondsSince(part);
         times_.iterations += 1.0;
     }
     times_.solve = millisecondsSince(t);
 
     t = Clock::now();
-    if (warm > 0.0f)
-        for (std::size_t i = 0; i < n; ++i)
-            solveAcceleration_[i] = reference::solveAcceleration(position_[i], predicted_[i],
-                                                                 predictedVelocity_[i], dt);
-    // Alg. 1 l. 21: the velocity the positions' change implies.
-    for (std::size_t i = 0; i < n; ++i)
-        velocity_[i] = reference::velocityFromPositions(position_[i], predicted_[i], dt);
-    // Alg. 1 l. 22: XSPH and vorticity both read the velocities above and
-    // the last iteration's densities (Jacobi); confinement adds to XSPH's result.
-    const FluidParams& fluid = params.fluid;
-    const bool withVorticity = fluid.vorticity > 0.0f;
-    // The physical viscosity reads the same velocities as XSPH (Jacobi).
-    const bool withViscosity = fluid.kinematicViscosity > 0.0f;
-    if (withViscosity) {
-        viscosityAcceleration_.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
-            viscosityAcceleration_[i] =
-                reference::viscosityAcceleration(c, fluid.kinematicViscosity, predicted_, velocity_,
-                                                 density_, grid_.neighbors(i), i);
+    const FluidParams& fluid = s.params.fluid;
+    if (s.params.solver.warmStart > 0.0f) recordSolveAcceleration(s);
+    updateVelocity(s);
+    if (smoothsVelocities(fluid)) viscosityAndVorticity(s);
+    if (fluid.kinematicViscosity > 0.0f) physicalViscosity(s);
+    if (fluid.vorticity > 0.0f) vorticityConfinement(s);
+    if (s.c.cohesionScale > 0.0f) surfaceTension(s);
+    if (s.c.surfaceTension > 0.0f) {
+        colourGradient(s);
+        bandNormal(s);
+        curvature(s);
+        curvatureForce(s);
     }
-    if (fluid.viscosity > 0.0f || withVorticity) {
-        if (withVorticity) vorticity_.resize(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const reference::NeighborIndices nbrs = grid_.neighbors(i);
-            postVelocity_[i] = reference::xsphVelocity(c, fluid.viscosity, predicted_, velocity_,
-                                                       density_, nbrs, i);
-            if (withVorticity)
-                vorticity_[i] = reference::vorticity(c, predicted_, velocity_, density_, nbrs, i);
+    boundaryResponse(s);
+    commit(s.params.solver.warmStart > 0.0f);
+    reactions_.forces(s.c.particleMass, dt, lastReactions_);
+    times_.postProcess = millisecondsSince(t);
+    times_.total = millisecondsSince(stepStart);
+}
+
+bool ReferenceBackend::smoothsVelocities(const FluidParams& fluid) {
+    return fluid.viscosity > 0.0f || fluid.vorticity > 0.0f;
+}
+
+// Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the sweep
+// against the solids starts from x (no step tunnels through them). The
+// warm start moves x* by the last substep's solve acceleration.
+void ReferenceBackend::predict(const Step& s) {
+    const Aabb& box = s.c.collisionBox;
+    const float warm = s.params.solver.warmStart;
+    for (std::size_t i = 0; i < position_.size(); ++i) {
+        velocity_[i] += s.dt * s.params.gravity;
+        predictedVelocity_[i] = velocity_[i];
+        predicted_[i] = boundary::clampToBox(box, position_[i] + s.dt * velocity_[i]);
+        if (warm > 0.0f)
+            predicted_[i] = boundary::clampToBox(
+                box, reference::warmStart(s.c, predicted_[i], solveAcceleration_[i], density_[i],
+                                          warm, s.dt));
+        if (s.solids) {
+            const Vec3 before = predicted_[i];
+            std::size_t touched = boundary::kNoSolid;
+            predicted_[i] =
+                boundary::resolveSolidCollision(s.c, *s.solids, position_[i], before, &touched);
+            if (s.reactions) s.reactions->add(i, touched, predicted_[i], predicted_[i] - before);
         }
-        if (withVorticity) {
-            for (std::size_t i = 0; i < n; ++i) {
-                const Vec3 eta = reference::vorticityGradient(c, predicted_, vorticity_, density_,
-                                                              grid_.neighbors(i), i);
-                postVelocity_[i] +=
-                    dt * reference::vorticityConfinement(c, fluid.vorticity, eta, vorticity_[i]);
+    }
+}
+
+// Alg. 1 l. 5-7: neighbours of x*, found once per step.
+void ReferenceBackend::findNeighbors() {
+    grid_.build(predicted_);
+}
+
+// Alg. 1 l. 9-11: rho_i and lambda_i at x*. Returns the sum of the
+// compressions C_i in fixed point, as the CPU backend sums it (the
+// iteration control's stopping test).
+std::int64_t ReferenceBackend::densityAndLambda(const Step& s) {
+    std::int64_t compression = 0;
+    for (std::size_t i = 0; i < predicted_.size(); ++i) {
+        const reference::DensityAndLambda r =
+            reference::densityAndLambda(s.c, s.solids, predicted_, grid_.neighbors(i), i);
+        density_[i] = r.density;
+        lambda_[i] = r.lambda;
+        compression += fixedPointCompression(reference::densityConstraint(s.c, r.density));
+    }
+    return compression;
+}
+
+// Alg. 1 l. 12-19: dp_i from the lambdas, the collision response (the box
+// and the solids, l. 16-18), then every x* moves at once.
+void ReferenceBackend::correctPositions(const Step& s) {
+    const Aabb& box = s.c.collisionBox;
+    for (std::size_t i = 0; i < predicted_.size(); ++i) {
+        const Vec3 dp = reference::positionCorrection(s.c, s.solids, predicted_, lambda_,
+                                                      grid_.neighbors(i), i);
+        Vec3 moved = boundary::clampToBox(box, predicted_[i] + reference::overRelaxed(s.c, dp));
+        if (s.solids) {
+            const Vec3 unprojected = moved;
+            std::size_t touched = boundary::kNoSolid;
+            moved = boundary::resolveSolidCollision(s.c, *s.solids, position_[i], moved, &touched);
+            if (s.reactions) {
+                const reference::SolidCorrection sc =
+                    reference::solidCorrection(s.c, *s.solids, lambda_[i], predicted_[i]);
+                s.reactions->add(i, sc.solid, predicted_[i],
+                                 reference::overRelaxed(s.c, sc.displacement));
+                s.reactions->add(i, touched, moved, moved - unprojected);
             }
         }
-        velocity_.swap(postVelocity_);
+        corrected_[i] = moved;
     }
-    if (withViscosity)
-        for (std::size_t i = 0; i < n; ++i) velocity_[i] += dt * viscosityAcceleration_[i];
-    const SolverParams& s = params.solver;
-    // Surface tension's cohesion and adhesion at x*, added to the
-    // velocity like confinement: the force at the new positions drives the
-    // next step (symplectic Euler).
-    if (c.cohesionScale > 0.0f) {
-        for (std::size_t i = 0; i < n; ++i) {
-            const reference::SurfaceTensionAcceleration a = reference::surfaceTension(
-                c, s.wallAdhesion, solids, predicted_, density_, grid_.neighbors(i), i);
-            velocity_[i] += dt * a.total;
-            if (reactions)
-                reactions->add(i, a.solid, predicted_[i], (dt * dt) * a.solidAcceleration);
-        }
+    predicted_.swap(corrected_);
+}
+
+// The warm start's record: this substep's solve acceleration, for the next.
+void ReferenceBackend::recordSolveAcceleration(const Step& s) {
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        solveAcceleration_[i] =
+            reference::solveAcceleration(position_[i], predicted_[i], predictedVelocity_[i], s.dt);
+}
+
+// Alg. 1 l. 21: the velocity the positions' change implies.
+void ReferenceBackend::updateVelocity(const Step& s) {
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        velocity_[i] = reference::velocityFromPositions(position_[i], predicted_[i], s.dt);
+}
+
+// Alg. 1 l. 22: XSPH and the vorticity omega_i both read the velocities
+// above and the last iteration's densities (Jacobi). XSPH's result becomes
+// v; postVelocity_ keeps the velocities it read, for the physical viscosity.
+void ReferenceBackend::viscosityAndVorticity(const Step& s) {
+    const FluidParams& fluid = s.params.fluid;
+    const bool withVorticity = fluid.vorticity > 0.0f;
+    if (withVorticity) vorticity_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i) {
+        const reference::NeighborIndices nbrs = grid_.neighbors(i);
+        postVelocity_[i] =
+            reference::xsphVelocity(s.c, fluid.viscosity, predicted_, velocity_, density_, nbrs, i);
+        if (withVorticity)
+            vorticity_[i] = reference::vorticity(s.c, predicted_, velocity_, density_, nbrs, i);
     }
-    // The curvature force (equations.hpp): g, nb and kappa of every
-    // particle in turn, then v += dt a after the cohesion, at x*.
-    if (c.surfaceTension > 0.0f) {
-        colourGradient_.resize(n);
-        bandNormal_.resize(n);
-        curvature_.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
-            colourGradient_[i] = reference::colourGradient(c, predicted_, grid_.neighbors(i), i);
-        for (std::size_t i = 0; i < n; ++i)
-            bandNormal_[i] =
-                reference::bandNormal(c, predicted_, colourGradient_, grid_.neighbors(i), i);
-        for (std::size_t i = 0; i < n; ++i)
-            curvature_[i] = reference::curvature(c, predicted_, colourGradient_, bandNormal_,
-                                                 grid_.neighbors(i), i);
-        for (std::size_t i = 0; i < n; ++i)
-            velocity_[i] += reference::curvatureForceVelocityChange(
-                c, dt, predicted_, colourGradient_, curvature_, grid_.neighbors(i), i);
+    velocity_.swap(postVelocity_);
+}
+
+// v += dt nu lap v, the SPH Laplacian of the velocities XSPH read (Jacobi).
+void ReferenceBackend::physicalViscosity(const Step& s) {
+    const FluidParams& fluid = s.params.fluid;
+    const std::vector<Vec3>& read = smoothsVelocities(fluid) ? postVelocity_ : velocity_;
+    viscosityAcceleration_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        viscosityAcceleration_[i] = reference::viscosityAcceleration(
+            s.c, fluid.kinematicViscosity, predicted_, read, density_, grid_.neighbors(i), i);
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        velocity_[i] += s.dt * viscosityAcceleration_[i];
+}
+
+// Alg. 1 l. 22: vorticity confinement from the omega_i above.
+void ReferenceBackend::vorticityConfinement(const Step& s) {
+    for (std::size_t i = 0; i < position_.size(); ++i) {
+        const Vec3 eta = reference::vorticityGradient(s.c, predicted_, vorticity_, density_,
+                                                      grid_.neighbors(i), i);
+        velocity_[i] += s.dt * reference::vorticityConfinement(s.c, s.params.fluid.vorticity, eta,
+                                                               vorticity_[i]);
     }
-    // Restitution and friction on the walls and solids, then x = x* (l. 23).
-    for (std::size_t i = 0; i < n; ++i) {
-        Vec3 v =
-            boundary::respondToWalls(box, s.restitution, s.friction, predicted_[i], velocity_[i]);
-        if (solids) {
+}
+
+// Surface tension's cohesion and adhesion at x*, added to the velocity like
+// confinement: the force at the new positions drives the next step
+// (symplectic Euler).
+void ReferenceBackend::surfaceTension(const Step& s) {
+    for (std::size_t i = 0; i < position_.size(); ++i) {
+        const reference::SurfaceTensionAcceleration a =
+            reference::surfaceTension(s.c, s.params.solver.wallAdhesion, s.solids, predicted_,
+                                      density_, grid_.neighbors(i), i);
+        velocity_[i] += s.dt * a.total;
+        if (s.reactions)
+            s.reactions->add(i, a.solid, predicted_[i], (s.dt * s.dt) * a.solidAcceleration);
+    }
+}
+
+// The curvature force (equations.hpp), four passes: g, nb and kappa of every
+// particle in turn (each reads the previous pass's field at the
+// neighbours), then v += dt a after the cohesion, at x*.
+void ReferenceBackend::colourGradient(const Step& s) {
+    colourGradient_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        colourGradient_[i] = reference::colourGradient(s.c, predicted_, grid_.neighbors(i), i);
+}
+
+void ReferenceBackend::bandNormal(const Step& s) {
+    bandNormal_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        bandNormal_[i] =
+            reference::bandNormal(s.c, predicted_, colourGradient_, grid_.neighbors(i), i);
+}
+
+void ReferenceBackend::curvature(const Step& s) {
+    curvature_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        curvature_[i] = reference::curvature(s.c, predicted_, colourGradient_, bandNormal_,
+                                             grid_.neighbors(i), i);
+}
+
+void ReferenceBackend::curvatureForce(const Step& s) {
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        velocity_[i] += reference::curvatureForceVelocityChange(
+            s.c, s.dt, predicted_, colourGradient_, curvature_, grid_.neighbors(i), i);
+}
+
+// Restitution and friction on the walls and solids, then x = x* (l. 23).
+void ReferenceBackend::boundaryResponse(const Step& s) {
+    const SolverParams& solver = s.params.solver;
+    for (std::size_t i = 0; i < position_.size(); ++i) {
+        Vec3 v = boundary::respondToWalls(s.c.collisionBox, solver.restitution, solver.friction,
+                                          predicted_[i], velocity_[i]);
+        if (s.solids) {
             const Vec3 before = v;
             std::size_t touched = boundary::kNoSolid;
-            v = boundary::respondToSolids(*solids, c.particleRadius, s.restitution, s.friction,
-                                          predicted_[i], v, &touched);
-            if (reactions) reactions->add(i, touched, predicted_[i], (v - before) * dt);
+            v = boundary::respondToSolids(*s.solids, s.c.particleRadius, solver.restitution,
+                                          solver.friction, predicted_[i], v, &touched);
+            if (s.reactions) s.reactions->add(i, touched, predicted_[i], (v - before) * s.dt);
         }
         velocity_[i] = v;
         position_[i] = predicted_[i];
     }
-    commit(warm > 0.0f);
-    reactions_.forces(c.particleMass, dt, lastReactions_);
-    times_.postProcess = millisecondsSince(t);
-    times_.total = millisecondsSince(stepStart);
 }
 
 std::size_t ReferenceBackend::bufferBytes() const {

@@ -1,7 +1,8 @@
 // The reference backend (private header): plain scalar C++, one short
 // function per equation of Macklin & Mueller 2013 (equations.hpp), clarity
 // over speed. It is the oracle the SIMD backend is tested against
-// (tests/backend/reference/) and the readable version of Algorithm 1.
+// (tests/backend/reference/) and the readable version of Algorithm 1: its
+// step() lists the stages by name, one member function each.
 //
 // Same stages in the same order as the CPU backend (backend/cpu/solver.cpp),
 // with the same boundary terms (backend/boundary.hpp), but serial, without
@@ -9,6 +10,7 @@
 // (neighbor_grid.hpp) and the particles as arrays of Vec3.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -26,6 +28,34 @@ class ReferenceBackend final : public HostBackend {
     BackendDiagnostics diagnostics() const override;
 
   private:
+    // The step's constant inputs, given to every stage.
+    struct Step {
+        const SimulationParams& params;
+        const SolverConstants& c;
+        const SolidSet* solids;  // null when there are none
+        float dt;
+        ReactionAccumulator* reactions;  // null when no solid is coupled
+    };
+    // The stages of step(), in the order of the Stage list
+    // (backend/step_plan.hpp); reference_backend.cpp says what each does.
+    void predict(const Step& s);
+    void findNeighbors();
+    std::int64_t densityAndLambda(const Step& s);  // the sum of C_i, fixed point
+    void correctPositions(const Step& s);
+    void recordSolveAcceleration(const Step& s);
+    void updateVelocity(const Step& s);
+    void viscosityAndVorticity(const Step& s);
+    void physicalViscosity(const Step& s);
+    void vorticityConfinement(const Step& s);
+    void surfaceTension(const Step& s);
+    void colourGradient(const Step& s);
+    void bandNormal(const Step& s);
+    void curvature(const Step& s);
+    void curvatureForce(const Step& s);
+    void boundaryResponse(const Step& s);
+    // XSPH or vorticity confinement on: viscosityAndVorticity runs.
+    static bool smoothsVelocities(const FluidParams& fluid);
+
     void load();                  // store_ -> the Vec3 arrays
     void commit(bool warmStart);  // the Vec3 arrays -> store_
     std::size_t bufferBytes() const;

@@ -417,7 +417,8 @@ TEST(DeviceWorld, CheckpointWrittenOnTheDeviceResumesOnTheCpu) {
 
 // The device's statistics, largest speed and state guard are the host's
 // functions' values on the downloaded state: the same per-particle terms
-// (core/particle_checks.hpp) in the same blocks, added in block order.
+// (backend/statistics_partial.hpp, core/particle_checks.hpp) in the same
+// blocks, added in block order.
 TEST(DeviceWorld, ReductionsEqualTheHostsOnTheSameState) {
     PBF_REQUIRE_DEVICE();
     const Scene scene = smallDamBreak();
@@ -483,6 +484,34 @@ TEST(DeviceWorld, TheMillionParticleDamBreakFitsInThreeHundredBytesPerParticle) 
     std::printf("  %.0f particles: %.0f bytes per particle used, %.0f in the table\n", n, used / n,
                 table / n);
     EXPECT_LE(used, table * 1.02 + 65536.0);  // + the solids and per-block sums
+}
+
+// The memory table (the admission check's) counts exactly the arrays a
+// running backend holds per particle, with every optional term on: surface
+// tension (g, nb, kappa), XSPH and the physical viscosity, vorticity
+// confinement, the warm start and a rigid body's reaction records.
+TEST(DeviceWorld, TheMemoryTableCountsTheArraysAllocatedWithEveryTermOn) {
+    PBF_REQUIRE_DEVICE();
+    Scene scene = withBody(smallDamBreak());
+    SimulationParams& s = scene.simulation;
+    s.fluid.surfaceTension = 0.0728f;
+    s.fluid.viscosity = 0.01f;
+    s.fluid.kinematicViscosity = 1e-6f;
+    s.fluid.vorticity = 0.1f;
+    s.solver.warmStart = 0.5f;
+    World world(scene, onDevice());
+    stepFrame(world);
+    const std::size_t n = world.particleCount();
+    const std::size_t held = deviceUnderTest() == BackendKind::Cuda
+                                 ? gpu::on_gpu::particleArrayBytes(world.backend())
+                                 : gpu::on_cpu::particleArrayBytes(world.backend());
+    EXPECT_EQ(held, n * gpu::particleArrayBytes(s, true))
+        << "the arrays held per particle and device_memory.cpp's table disagree";
+    // The settings reach the table: each term's arrays are counted.
+    SimulationParams plain = s;
+    plain.fluid.surfaceTension = 0.0f;
+    EXPECT_EQ(gpu::particleArrayBytes(s, true) - gpu::particleArrayBytes(plain, true),
+              7 * sizeof(float));  // g, nb, kappa
 }
 
 TEST(DeviceWorld, ASceneTooLargeForTheDeviceIsRefusedNamingIt) {
