@@ -166,7 +166,7 @@ void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 x = predicted.get(i);
         Vec3 v =
-            boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity.get(i));
+            boundary::respondToWalls(c, restitution, friction, x, velocity.get(i));
         if (solids) {
             const Vec3 before = v;
             std::size_t touched = boundary::kNoSolid;

@@ -464,7 +464,7 @@ struct RespondCommitKernel {
     ReactionSlot reactions;
     PBF_HD void operator()(std::uint32_t i) const {
         const Vec3 x = predicted(i);
-        Vec3 v = boundary::respondToWalls(c.collisionBox, restitution, friction, x, velocity(i));
+        Vec3 v = boundary::respondToWalls(c, restitution, friction, x, velocity(i));
         if (solids.present) {
             const Vec3 before = v;
             std::size_t touched = boundary::kNoSolid;

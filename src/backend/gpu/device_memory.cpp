@@ -41,12 +41,12 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // two gather buffers (float fields, the ids).
     bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t) +
              2 * sizeof(std::uint32_t);
-    // The sparse grid (backend/sparse_grid.hpp), planned at a cell per two
-    // particles (water at rest has about eight per cell; spray fewer) and
-    // a 4x4x4 block per eight: per cell its key, start, block key and block;
-    // per block its key, mask, first cell and 27 neighbouring blocks.
-    bytes += (2 * sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t)) / 2;
-    bytes += (2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) + 27 * sizeof(std::int32_t)) / 8;
+    // The sparse grid (backend/sparse_grid.hpp), planned at a cell per four
+    // particles (water at rest has eight per cell; spray fewer) and a 4x4x4
+    // block per sixteen: per cell its key, start, block key and block; per
+    // block its key, mask, first cell and 27 neighbouring blocks.
+    bytes += (2 * sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t)) / 4;
+    bytes += (2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) + 27 * sizeof(std::int32_t)) / 16;
     // The neighbour lists (device_kernels.hpp, ListNeighbors): an offset and
     // 4 bytes per neighbour, planned at 40 neighbours (water at rest has
     // 26-33 within h = 2 spacings; the dam break averages 28.5, the list

@@ -309,7 +309,7 @@ void ReferenceBackend::curvatureForce(const Step& s) {
 void ReferenceBackend::boundaryResponse(const Step& s) {
     const SolverParams& solver = s.params.solver;
     for (std::size_t i = 0; i < position_.size(); ++i) {
-        Vec3 v = boundary::respondToWalls(s.c.collisionBox, solver.restitution, solver.friction,
+        Vec3 v = boundary::respondToWalls(s.c, solver.restitution, solver.friction,
                                           predicted_[i], velocity_[i]);
         if (s.solids) {
             const Vec3 before = v;
