@@ -45,6 +45,10 @@ struct OutputParams {
     // VTK XML particles per frame (frame_NNNNN.vtu) and particles.pvd with
     // the frame times, for ParaView (include/pbf/io/vtk.hpp).
     bool writeVtk = false;
+    // A USD stage of the run (run.usda and its per-frame layers in
+    // run_usd/, docs/clients.md), written by `pbf run` at the end of the
+    // run, after the surfaces of --mesh; as `pbf export usd RUN_DIR`.
+    bool writeUsd = false;
     // Checkpoints for --resume (docs/reliability.md): one is written when
     // `checkpointEvery` frames or `checkpointSeconds` of wall time have passed
     // since the last one (0 turns that trigger off), and at the end of a run.
