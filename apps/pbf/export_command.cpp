@@ -345,6 +345,8 @@ std::function<int()> addExportCommand(CLI::App& app) {
         std::string format;
         std::string input;
         std::string output;
+        std::string scene;
+        std::vector<std::string> overrides;
         bool quiet = false;
     };
     auto args = std::make_shared<Arguments>();
@@ -359,15 +361,31 @@ std::function<int()> addExportCommand(CLI::App& app) {
     command->add_option("-o,--out", args->output,
                         "Root layer to write (default: DIRECTORY/run.usda); the per-frame layers "
                         "go beside it in <name>_usd/");
+    command->add_option("--scene", args->scene,
+                        "Scene file for the solids, bodies' shapes and camera (default: the one "
+                        "summary.json names)");
+    command
+        ->add_option("-s,--set", args->overrides,
+                     "The run's scene overrides (as given to `pbf run --set`)")
+        ->take_all();
     command->add_flag("-q,--quiet", args->quiet, "No progress bar");
     return [args] {
         const fs::path run = args->input;
         const fs::path root = args->output.empty() ? run / "run.usda" : fs::path(args->output);
         if (root.extension() != ".usda")
             throw IoError(root.string() + ": the root layer must end in .usda");
-        const UsdExport e = exportRunUsd(run, root, args->quiet, [](const std::string& m) {
-            fmt::print(stderr, "pbf: warning: {}\n", m);
-        });
+        std::optional<Scene> scene;
+        if (!args->scene.empty() || !args->overrides.empty()) {
+            std::vector<SceneOverride> overrides;
+            for (const std::string& o : args->overrides) overrides.push_back(parseOverride(o));
+            const fs::path file =
+                !args->scene.empty() ? fs::path(args->scene) : readRunInfo(run).sceneFile;
+            scene = loadScene(file, overrides);
+        }
+        const UsdExport e = exportRunUsd(
+            run, root, args->quiet,
+            [](const std::string& m) { fmt::print(stderr, "pbf: warning: {}\n", m); },
+            scene ? &*scene : nullptr);
         fmt::print("pbf export: usd stage of {}\n", describe(e));
         return 0;
     };
