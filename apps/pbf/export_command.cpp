@@ -12,7 +12,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <chrono>
 #include <fstream>
 #include <memory>
@@ -81,30 +80,12 @@ RunInfo readRunInfo(const fs::path& run) {
     return info;
 }
 
-// N of "<prefix>NNNNN<suffix>" (at least five digits, as pbf names frames), else -1.
-int frameOf(const std::string& name, std::string_view prefix, std::string_view suffix) {
-    if (name.size() < prefix.size() + 5 + suffix.size() || !name.starts_with(prefix) ||
-        !name.ends_with(suffix))
-        return -1;
-    const std::string_view digits =
-        std::string_view(name).substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-    int value = -1;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    return ec == std::errc() && end == digits.data() + digits.size() ? value : -1;
-}
-
 // The frames <= last of "<prefix>NNNNN<suffix>" files in `directory`, ascending.
 std::vector<int> framesIn(const fs::path& directory, std::string_view prefix,
                           std::string_view suffix, int last) {
     std::vector<int> frames;
-    std::error_code ec;
-    if (!fs::is_directory(directory, ec)) return frames;
-    for (const auto& entry : fs::directory_iterator(directory, ec)) {
-        const int frame = frameOf(entry.path().filename().string(), prefix, suffix);
-        if (frame >= 0 && frame <= last) frames.push_back(frame);
-    }
-    if (ec) throw IoError(directory.string() + ": cannot list directory: " + ec.message());
-    std::sort(frames.begin(), frames.end());
+    for (const surface::FrameFile& f : surface::listFrameFiles(directory, prefix, suffix))
+        if (f.frame <= last) frames.push_back(f.frame);
     return frames;
 }
 
