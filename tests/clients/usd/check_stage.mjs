@@ -2,7 +2,8 @@
 // independent USD reader, TinyUSDZ (npm package tinyusdz, a WebAssembly
 // build), and compared with the run's own files read here independently:
 //
-//   node check_stage.mjs RUN_DIR [ROOT.usda]      (ROOT default RUN_DIR/run.usda)
+//   node check_stage.mjs RUN_DIR [ROOT.usda] [--no-scene-parts]
+//   (ROOT default RUN_DIR/run.usda)
 //
 // Every layer of the stage (root, per-frame layers, manifests) must load.
 // TinyUSDZ parses value clips' metadata but does not compose them, so this
@@ -22,7 +23,10 @@ if (!fs.existsSync(path.join(packageDir, 'tinyusdz.wasm'))) {
   process.exit(77);
 }
 
-const [runDir, rootArg] = process.argv.slice(2);
+// --no-scene-parts: a pbf built without pbf_render (PBF_BUILD_VIEWER=OFF)
+// writes no solids, body shapes or camera.
+const sceneParts = !process.argv.includes('--no-scene-parts');
+const [runDir, rootArg] = process.argv.slice(2).filter((a) => a !== '--no-scene-parts');
 if (!runDir) {
   console.error('usage: node check_stage.mjs RUN_DIR [ROOT.usda]');
   process.exit(2);
@@ -349,14 +353,14 @@ if (fs.existsSync(bodiesFile)) {
           `body_${body} at time code ${t}: translate ${translate} orient ${orient}, bodies.csv says ${expected}`);
     check(/xformOpOrder = \["xformOp:translate", "xformOp:orient"\]/.test(prim),
           `body_${body}: xformOpOrder is not translate, orient`);
-    check(/def Mesh "shape"/.test(prim), `body_${body}: no shape mesh`);
+    if (sceneParts) check(/def Mesh "shape"/.test(prim), `body_${body}: no shape mesh`);
     if (failures === before)
       console.log(`body_${body} at time code ${t}: translate and orient equal bodies.csv`);
   }
 }
 
 // ---- solids and camera from the scene ----
-if (summary.scene_file && fs.existsSync(summary.scene_file)) {
+if (sceneParts && summary.scene_file && fs.existsSync(summary.scene_file)) {
   const scene = JSON.parse(fs.readFileSync(summary.scene_file, 'utf8'));
   const solids = (scene.solids ?? []).length;
   for (let k = 0; k < solids; ++k) {
