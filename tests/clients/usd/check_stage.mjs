@@ -48,11 +48,12 @@ globalThis.window = globalThis;
 const init = (await import(pathToFileURL(path.join(packageDir, 'tinyusdz.js')))).default;
 const tinyusdz = await init({ wasmBinary: fs.readFileSync(path.join(packageDir, 'tinyusdz.wasm')) });
 
-// A layer as the reader understood it (its own .usda rendering of the layer).
-function readLayer(file) {
+// A layer as the reader understood it (its own .usda rendering of the
+// layer); with `keep` false only whether it loads (true) or not (null).
+function readLayer(file, keep = true) {
   const loader = new tinyusdz.TinyUSDZLoaderNative();
   const ok = loader.loadAsLayerFromBinary(new Uint8Array(fs.readFileSync(file)), file);
-  const text = ok ? loader.layerToString() : null;
+  const text = ok ? (keep ? loader.layerToString() : true) : null;
   if (!ok) check(false, `${file}: tinyusdz cannot read it: ${loader.error()}`);
   loader.delete();
   return text;
@@ -181,7 +182,8 @@ check(Number(metadataOf(root, 'endTimeCode')) === lastFrame,
 check(metadataOf(root, 'defaultPrim') === 'run', 'defaultPrim is not run');
 check(/^def Xform "run"/m.test(root), 'no /run Xform');
 
-// A clip series: its metadata through the reader, and every layer it names loaded.
+// A clip series: its metadata through the reader, and every layer it names
+// loaded (the text of those that the checks read is asked for again then).
 const layers = new Map();
 function clipSeries(type, name) {
   const prim = primText(root, type, name);
@@ -205,12 +207,12 @@ function clipSeries(type, name) {
   for (const p of [...series.paths, series.manifest]) {
     const file = path.join(rootDir, p ?? '');
     if (!check(p && fs.existsSync(file), `${name}: clip layer ${p} does not exist`)) continue;
-    layers.set(p, readLayer(file));
+    layers.set(p, readLayer(file, false));
   }
   return series;
 }
 // The clip layer and clip time that give `series` its value at stage time `t`.
-function resolve(series, t) {
+function resolve(series, t, read = true) {
   let index = -1;
   for (const [time, clip] of series.active) if (time <= t) index = clip;
   if (index < 0) return null;
@@ -221,7 +223,9 @@ function resolve(series, t) {
       clipTime = times[k][1] + (t - times[k][0]) * (times[k + 1][1] - times[k][1]) /
                  (times[k + 1][0] - times[k][0]);
   if (t >= times.at(-1)[0]) clipTime = times.at(-1)[1] + (t - times.at(-1)[0]);
-  return { layer: layers.get(series.paths[index]), file: series.paths[index], time: clipTime };
+  const file = series.paths[index];
+  const layer = read && layers.get(file) ? readLayer(path.join(rootDir, file)) : null;
+  return { layer, file, time: clipTime };
 }
 
 const frameFile = (prefix, frame) => `${prefix}_${String(frame).padStart(5, '0')}.ply`;
@@ -233,7 +237,7 @@ if (check(particles !== null, 'no /run/particles Points')) {
   check(particles.paths.length === lastFrame + 1,
         `particles: ${particles.paths.length} clip layers for frames 0 to ${lastFrame}`);
   // Between two frames the earlier frame holds.
-  const between = resolve(particles, 1.5);
+  const between = resolve(particles, 1.5, false);
   check(between?.file === particles.paths[1] && between.time === 1.5,
         'particles: at time 1.5 the clip of frame 1 is not the active one');
   for (const t of checkTimes) {
