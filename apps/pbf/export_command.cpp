@@ -281,22 +281,30 @@ UsdExport exportRunUsd(const fs::path& run, const fs::path& rootFile, bool quiet
         directory / fmt::format(".{}.tmp{}", folder, std::random_device()() % 1000000);
     ProgressBar progress("usd", int(frames.size() + surfaceFrames.size() + foamFrames.size()),
                          !quiet);
+    const fs::path old =
+        directory / fmt::format(".{}.old{}", folder, std::random_device()() % 1000000);
+    bool movedOld = false, movedNew = false;
     try {
         usd::Stage inTemporary = stage;
         for (usd::ClipSeries& s : inTemporary.series)
             s.directory = temporary.filename().string() + s.directory.substr(folder.size());
         writeClips(run, directory, inTemporary, 2.0f * info.radius, progress);
         progress.finish();
-        const fs::path old =
-            directory / fmt::format(".{}.old{}", folder, std::random_device()() % 1000000);
         std::error_code ec;
-        if (fs::exists(final, ec)) fs::rename(final, old);
+        if (fs::exists(final, ec)) {
+            fs::rename(final, old);
+            movedOld = true;
+        }
         fs::rename(temporary, final);
+        movedNew = true;
         usd::writeRootLayer(rootFile, stage);
         fs::remove_all(old, ec);
     } catch (...) {
+        // Back to how it was: the old root layer (rewritten whole or not at
+        // all) names the old per-frame layers.
         std::error_code ec;
-        fs::remove_all(temporary, ec);
+        fs::remove_all(movedNew ? final : temporary, ec);
+        if (movedOld) fs::rename(old, final, ec);
         throw;
     }
     UsdExport result;

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # `pbf export usd` on bad input: a directory that is not a run, a run with a
 # missing frame, a run with a truncated frame, and a truncated frame in a
-# run that already has a stage. Each must exit non-zero with a message that
-# names the file, and leave the directory exactly as it was (no root layer,
-# no per-frame layers, no temporary folder; an earlier stage untouched).
+# run that already has a stage, a root layer that cannot be written. Each
+# must exit non-zero with a message that names the file, and leave the
+# directory exactly as it was (no root layer, no per-frame layers, no
+# temporary folder; an earlier stage untouched).
 # Usage: bad_input_test.sh PBF RUN_DIR WORKDIR   (RUN_DIR: a run with a stage)
 set -euo pipefail
 pbf=$1
@@ -12,9 +13,9 @@ work=$3
 rm -rf "$work"
 mkdir -p "$work"
 
-# Every file below `dir` with its size and checksum, hidden ones included.
+# Every folder and every file's checksum below `dir`, hidden ones included.
 snapshot() {
-    (cd "$1" && find . -type f -print0 | sort -z | xargs -0 md5sum)
+    (cd "$1" && find . -type d | sort && find . -type f -print0 | sort -z | xargs -0 md5sum)
 }
 
 # expect_failure NAME DIR PATTERN: the export fails, says PATTERN, changes nothing.
@@ -63,6 +64,13 @@ expect_failure truncated_frame "$work/truncated" "truncated/frame_00005.ply: fil
 cp -r "$run" "$work/with_stage"
 head -c 300 "$run/frame_00005.ply" > "$work/with_stage/frame_00005.ply"
 expect_failure truncated_with_stage "$work/with_stage" "with_stage/frame_00005.ply: file is shorter"
+
+# The root layer cannot be replaced (here a folder is in its place): the new
+# per-frame layers are taken back out and the old ones put back.
+cp -r "$run" "$work/root_fails"
+rm "$work/root_fails/run.usda"
+mkdir "$work/root_fails/run.usda"
+expect_failure root_not_writable "$work/root_fails" "root_fails/run.usda: cannot rename"
 
 if "$pbf" export usd "$work/no_such_directory" -q > "$work/none.log" 2>&1; then
     echo "FAIL: a missing directory exported"
