@@ -48,6 +48,7 @@ struct RunInfo {
     float radius = 0.0f;
     std::string scene;
     fs::path sceneFile;
+    std::vector<SceneOverride> overrides;  // the run's --set
 };
 
 RunInfo readRunInfo(const fs::path& run) {
@@ -77,6 +78,14 @@ RunInfo readRunInfo(const fs::path& run) {
     if (!(info.fps > 0.0)) throw IoError(file.string() + ": fps: must be positive");
     info.scene = j.value("scene", std::string("run"));
     info.sceneFile = j.value("scene_file", std::string());
+    if (const auto it = j.find("scene_overrides"); it != j.end()) {
+        if (!it->is_array()) throw IoError(file.string() + ": scene_overrides: not a list");
+        for (const nlohmann::json& o : *it) {
+            if (!o.is_string())
+                throw IoError(file.string() + ": scene_overrides: not a list of strings");
+            info.overrides.push_back(parseOverride(o.get<std::string>()));
+        }
+    }
     return info;
 }
 
@@ -169,17 +178,18 @@ void addSceneParts(usd::Stage& stage, const Scene& scene,
 #endif
 }
 
-// The run's scene: `given`, else the file summary.json names (without the
-// --set overrides of the run, which summary.json does not record).
-std::optional<Scene> sceneOfRun(const Scene* given, const fs::path& file,
+// The run's scene: `given`, else the file summary.json names with the
+// run's overrides.
+std::optional<Scene> sceneOfRun(const Scene* given, const RunInfo& info,
                                 const std::function<void(const std::string&)>& warn) {
     if (given) return *given;
+    const fs::path& file = info.sceneFile;
     if (file.empty()) {
         warn("summary.json names no scene file: no solids, body shapes or camera in the stage");
         return std::nullopt;
     }
     try {
-        return loadScene(file);
+        return loadScene(file, info.overrides);
     } catch (const std::exception& e) {
         warn(std::string("no solids, body shapes or camera in the stage: ") + e.what());
         return std::nullopt;
@@ -270,7 +280,7 @@ UsdExport exportRunUsd(const fs::path& run, const fs::path& rootFile, bool quiet
         stage.series.push_back({"whitewater", "Points", foamFrames, folder + "/whitewater",
                                 usd::pointsAttributes(true, true, false, true)});
     stage.bodies = readBodies(run / "bodies.csv", info.frames);
-    if (const std::optional<Scene> loaded = sceneOfRun(scene, info.sceneFile, warn))
+    if (const std::optional<Scene> loaded = sceneOfRun(scene, info, warn))
         addSceneParts(stage, *loaded, warn);
 
     // The per-frame layers in a new folder; it replaces the old one only
@@ -355,7 +365,7 @@ std::function<int()> addExportCommand(CLI::App& app) {
                         "summary.json names)");
     command
         ->add_option("-s,--set", args->overrides,
-                     "The run's scene overrides (as given to `pbf run --set`)")
+                     "Scene overrides after the run's own (which summary.json records)")
         ->take_all();
     command->add_flag("-q,--quiet", args->quiet, "No progress bar");
     return [args] {
@@ -365,11 +375,12 @@ std::function<int()> addExportCommand(CLI::App& app) {
             throw IoError(root.string() + ": the root layer must end in .usda");
         std::optional<Scene> scene;
         if (!args->scene.empty() || !args->overrides.empty()) {
-            std::vector<SceneOverride> overrides;
+            // The run's overrides, then the command line's.
+            const RunInfo info = readRunInfo(run);
+            std::vector<SceneOverride> overrides = info.overrides;
             for (const std::string& o : args->overrides) overrides.push_back(parseOverride(o));
-            const fs::path file =
-                !args->scene.empty() ? fs::path(args->scene) : readRunInfo(run).sceneFile;
-            scene = loadScene(file, overrides);
+            scene =
+                loadScene(!args->scene.empty() ? fs::path(args->scene) : info.sceneFile, overrides);
         }
         const UsdExport e = exportRunUsd(
             run, root, args->quiet,

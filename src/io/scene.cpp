@@ -394,6 +394,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
 
     Scene scene;
     scene.source = sourceName;
+    scene.overrides = overrides;
     JsonReader root(document, "", scene.source);
     scene.name = root.string("name", defaultName(sourceName));
     if (scene.name.empty() || scene.name.find('/') != std::string::npos)

@@ -58,6 +58,13 @@ struct OutputParams {
     RenderOutput render;
 };
 
+// A command-line override "path=value": path is dot-separated
+// ("solver.iterations"), value is JSON ("8", "[0,-9.81,0]") or a bare string.
+struct SceneOverride {
+    std::string path;
+    std::string value;
+};
+
 // A scene file: a world definition (name from the file name unless given,
 // source = the file) plus what `pbf run` writes.
 struct Scene : WorldDef {
@@ -67,14 +74,11 @@ struct Scene : WorldDef {
     // checkpoint and speed-limit settings): a checkpoint records it so that a
     // run is only resumed with the scene it was started with.
     std::uint64_t fingerprint = 0;
+    // The overrides applied to the file, in order (summary.json records
+    // them, so that `pbf export usd` can load the scene the run ran).
+    std::vector<SceneOverride> overrides;
 };
 
-// A command-line override "path=value": path is dot-separated
-// ("solver.iterations"), value is JSON ("8", "[0,-9.81,0]") or a bare string.
-struct SceneOverride {
-    std::string path;
-    std::string value;
-};
 SceneOverride parseOverride(std::string_view assignment);  // throws SceneError
 
 Scene loadScene(const std::filesystem::path& file,

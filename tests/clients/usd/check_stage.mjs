@@ -366,7 +366,10 @@ if (fs.existsSync(bodiesFile)) {
 // ---- solids and camera from the scene ----
 if (sceneParts && summary.scene_file && fs.existsSync(summary.scene_file)) {
   const scene = JSON.parse(fs.readFileSync(summary.scene_file, 'utf8'));
-  const solids = (scene.solids ?? []).length;
+  // The run's --set overrides of `solids` (summary.json records them) win.
+  const solidsOverride = (summary.scene_overrides ?? []).findLast((o) => o.startsWith('solids='));
+  const solids = (solidsOverride ? JSON.parse(solidsOverride.slice('solids='.length))
+                                 : scene.solids ?? []).length;
   for (let k = 0; k < solids; ++k) {
     const prim = primText(root, 'Mesh', `solid_${k}`);
     check(prim !== null && numbers(valueOf(prim, 'int[] faceVertexCounts') ?? '').length > 0,
