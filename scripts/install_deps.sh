@@ -35,12 +35,35 @@ packages=(
 )
 if [ "${1:-}" = "--clang" ]; then packages+=(clang libomp-dev); fi
 
+# The USD client test's reader (tests/clients/usd, CTest clients.usd): the npm
+# package tinyusdz (TinyUSDZ built to WebAssembly; no USD library is packaged
+# for Debian), pinned in tests/clients/usd/package-lock.json. Installed where
+# node and npm are present (Node is not one of the Debian packages above);
+# without them the test is skipped with a message.
+install_usd_reader() {
+  local dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/clients/usd"
+  if ! command -v node > /dev/null || ! command -v npm > /dev/null; then
+    echo "install_deps: no node/npm on the PATH: the USD client test (clients.usd) will be skipped"
+    return 0
+  fi
+  if npm ls --prefix "$dir" tinyusdz@0.9.0-rc10 > /dev/null 2>&1; then
+    echo "install_deps: tinyusdz 0.9.0-rc10 already installed in $dir"
+    return 0
+  fi
+  echo "install_deps: npm ci in $dir (tinyusdz 0.9.0-rc10)"
+  if ! (cd "$dir" && npm ci --no-audit --no-fund); then
+    echo "install_deps: warning: npm ci failed: the USD client test (clients.usd) will be skipped"
+  fi
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#packages[@]} packages already installed"
+  install_usd_reader
   exit 0
 fi
 SUDO=""
@@ -48,3 +71,4 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 echo "install_deps: installing ${missing[*]}"
 $SUDO apt-get update -q
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+install_usd_reader

@@ -11,6 +11,7 @@ namespace pbf::cli {
 std::function<int()> addRunCommand(CLI::App& app);
 std::function<int()> addBenchCommand(CLI::App& app);
 std::function<int()> addFoamCommand(CLI::App& app);
+std::function<int()> addExportCommand(CLI::App& app);
 #ifdef PBF_HAVE_RENDER
 std::function<int()> addViewCommand(CLI::App& app);
 std::function<int()> addRenderCommand(CLI::App& app);

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
 #endif
     const auto mesh = pbf::cli::addMeshCommand(app);
     const auto foam = pbf::cli::addFoamCommand(app);
+    const auto exporter = pbf::cli::addExportCommand(app);
     const auto plot = pbf::cli::addPlotCommand(app);
     const auto validate = pbf::cli::addValidateCommand(app);
     const auto params = pbf::cli::addParamsCommand(app);
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
 #endif
     if (app.got_subcommand("mesh")) return runCommand(mesh);
     if (app.got_subcommand("foam")) return runCommand(foam);
+    if (app.got_subcommand("export")) return runCommand(exporter);
     if (app.got_subcommand("plot")) return runCommand(plot);
     if (app.got_subcommand("validate")) return runCommand(validate);
     if (app.got_subcommand("params")) return runCommand(params);

@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "console.hpp"
 #include "device_option.hpp"
+#include "export_command.hpp"
 #include "mesh_job.hpp"
 #include "pbf/core/distributed.hpp"
 #include "pbf/core/threading.hpp"
@@ -36,6 +37,7 @@ struct RunArguments {
     bool vdbPoints = false;
     bool vtk = false;
     bool mesh = false;
+    bool usd = false;
     bool resume = false;
     std::optional<std::string> render;  // --render [spheres|liquid|none]
     bool noPlot = false;
@@ -95,9 +97,14 @@ int runScene(RunArguments args) {
     if (args.noParticles) scene.output.writeParticles = false;
     if (args.vdbPoints) scene.output.writeVdbPoints = true;
     if (args.vtk) scene.output.writeVtk = true;
+    if (args.usd) scene.output.writeUsd = true;
     if (args.mesh && !scene.output.writeParticles)
         throw SceneError(
             "--mesh needs the PLY particle frames: drop --no-particles / output.particles=false");
+    if (scene.output.writeUsd && !scene.output.writeParticles)
+        throw SceneError(
+            "--usd (output.usd) needs the PLY particle frames: drop --no-particles / "
+            "output.particles=false");
     if (args.checkpointEvery >= 0) scene.output.checkpointEvery = args.checkpointEvery;
     if (args.checkpointSeconds >= 0.0)
         scene.output.checkpointSeconds = static_cast<float>(args.checkpointSeconds);
@@ -216,7 +223,12 @@ int runScene(RunArguments args) {
         job.fps = scene.fps;
         job.formats.vtk = scene.output.writeVtk;  // surfaces for ParaView beside the particles
         if (args.threads > 0) job.threads = args.threads;
-        return runMeshJob(job, args.quiet);
+        if (const int status = runMeshJob(job, args.quiet); status != 0) return status;
+    }
+    if (scene.output.writeUsd) {  // after the surfaces, so that the stage has them
+        const std::filesystem::path dir = scene.output.directory;
+        fmt::print("pbf run: usd stage of {}\n",
+                   describe(exportRunUsd(dir, dir / "run.usda", args.quiet, warn, &scene)));
     }
     return 0;
 }
@@ -245,6 +257,9 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--vtk", args->vtk,
                   "Also write VTK XML particles frame_NNNNN.vtu and particles.pvd for ParaView "
                   "(as output.vtk=true)");
+    run->add_flag("--usd", args->usd,
+                  "At the end also write a USD stage of the run, RUN_DIR/run.usda (as "
+                  "output.usd=true and `pbf export usd RUN_DIR`; with --mesh it has the surfaces)");
     run->add_flag("--mesh", args->mesh,
                   "Afterwards mesh the frames into DIR/surface (PLY + level-set .vdb, with --vtk "
                   "also .vtp; `pbf mesh` has the options)");

@@ -74,8 +74,9 @@ void writeFileAtomically(const std::filesystem::path& path,
     std::error_code ec;
     std::filesystem::rename(temporary, path, ec);
     if (ec) {
+        const std::string reason = ec.message();  // before remove() overwrites ec
         std::filesystem::remove(temporary, ec);
-        throw IoError(describe(path, "cannot rename temporary file into place: " + ec.message()));
+        throw IoError(describe(path, "cannot rename temporary file into place: " + reason));
     }
 }
 

@@ -394,6 +394,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
 
     Scene scene;
     scene.source = sourceName;
+    scene.overrides = overrides;
     JsonReader root(document, "", scene.source);
     scene.name = root.string("name", defaultName(sourceName));
     if (scene.name.empty() || scene.name.find('/') != std::string::npos)
@@ -415,6 +416,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.writeParticles = o.boolean("particles", out.writeParticles);
         out.writeVdbPoints = o.boolean("vdb_points", out.writeVdbPoints);
         out.writeVtk = o.boolean("vtk", out.writeVtk);
+        out.writeUsd = o.boolean("usd", out.writeUsd);
         out.checkpointEvery = o.integer("checkpoint_every", out.checkpointEvery);
         if (out.checkpointEvery < 0 || out.checkpointEvery > 1000000)
             o.fail("checkpoint_every", "must be in [0, 1000000] frames (0: off)");

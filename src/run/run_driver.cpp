@@ -48,6 +48,11 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     j["pbf_version"] = kVersion;
     j["scene"] = scene.name;
     j["scene_file"] = scene.source;
+    if (!scene.overrides.empty()) {  // `pbf export usd` loads the scene with them
+        nlohmann::json overrides = nlohmann::json::array();
+        for (const SceneOverride& o : scene.overrides) overrides.push_back(o.path + "=" + o.value);
+        j["scene_overrides"] = overrides;
+    }
     j["frames"] = s.frames;
     j["particles"] = s.particles;
     j["simulated_seconds"] = s.simulatedSeconds;

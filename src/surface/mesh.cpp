@@ -4,6 +4,7 @@
 #include <bit>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <numeric>
 #include <ostream>
 #include <string>
@@ -163,6 +164,70 @@ void writeMeshPly(const std::filesystem::path& path, const TriangleMesh& mesh) {
         }
         out.write(faces.data(), static_cast<std::streamsize>(faces.size()));
     });
+}
+
+TriangleMesh readMeshPly(const std::filesystem::path& path) {
+    const auto fail = [&](const std::string& what) { throw IoError(path.string() + ": " + what); };
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail("cannot open");
+    // The header writeMeshPly writes, line by line (comments skipped); the
+    // normals' three lines are optional.
+    const std::vector<std::string> expected = {"ply",
+                                               "format binary_little_endian 1.0",
+                                               "element vertex",
+                                               "property float x",
+                                               "property float y",
+                                               "property float z",
+                                               "property float nx",
+                                               "property float ny",
+                                               "property float nz",
+                                               "element face",
+                                               "property list uchar uint vertex_indices",
+                                               "end_header"};
+    std::size_t vertices = 0, faces = 0;
+    bool normals = false;
+    std::string line;
+    for (std::size_t k = 0; k < expected.size();) {
+        if (!std::getline(in, line)) fail("truncated PLY header");
+        if (line.starts_with("comment")) continue;
+        if (expected[k] == "property float nx" && line != expected[k]) {
+            k += 3;  // no normals
+            continue;
+        }
+        normals = normals || line == "property float nx";
+        const bool count = expected[k].starts_with("element ");
+        if (count ? !line.starts_with(expected[k] + " ") : line != expected[k])
+            fail("not a surface PLY of pbf mesh (expected '" + expected[k] + "', got '" + line +
+                 "')");
+        if (count) (k == 2 ? vertices : faces) = std::stoul(line.substr(expected[k].size() + 1));
+        ++k;
+    }
+    const std::size_t vertexBytes = normals ? 24 : 12;
+    const auto headerEnd = in.tellg();
+    in.seekg(0, std::ios::end);
+    const auto bytes = static_cast<std::size_t>(in.tellg() - headerEnd);
+    in.seekg(headerEnd);
+    if (vertices > bytes / vertexBytes || faces > (bytes - vertices * vertexBytes) / 13)
+        fail("file is shorter than its vertex and face counts say");
+    TriangleMesh mesh;
+    mesh.vertices.resize(vertices);
+    if (normals) mesh.normals.resize(vertices);
+    std::vector<Vec3> row(normals ? 2 : 1);
+    for (std::size_t k = 0; k < vertices; ++k) {
+        in.read(reinterpret_cast<char*>(row.data()), std::streamsize(vertexBytes));
+        mesh.vertices[k] = row[0];
+        if (normals) mesh.normals[k] = row[1];
+    }
+    std::vector<char> face(13 * faces);
+    if (!in.read(face.data(), std::streamsize(face.size()))) fail("truncated face data");
+    mesh.triangles.resize(faces);
+    for (std::size_t k = 0; k < faces; ++k) {
+        if (face[13 * k] != 3) fail("face " + std::to_string(k) + " is not a triangle");
+        std::memcpy(mesh.triangles[k].data(), &face[13 * k + 1], 12);
+        for (const std::uint32_t v : mesh.triangles[k])
+            if (v >= vertices) fail("face " + std::to_string(k) + " has a vertex out of range");
+    }
+    return mesh;
 }
 
 void writeMeshVtp(const std::filesystem::path& path, const TriangleMesh& mesh, double time) {

@@ -89,21 +89,29 @@ std::vector<FrameFile> listParticleFrames(const fs::path& directory, const Frame
         throw IoError(directory.string() + ": " +
                       (fs::exists(directory, ec) ? "not a directory" : "no such directory") +
                       " (expected the output directory of `pbf run`)");
-    std::vector<FrameFile> frames;
-    std::size_t all = 0;
-    for (const auto& entry : fs::directory_iterator(directory, ec)) {
-        const int frame = frameNumber(entry.path().filename().string());
-        if (frame < 0) continue;
-        ++all;
-        if (range.contains(frame)) frames.push_back({frame, entry.path()});
-    }
-    if (ec) throw IoError(directory.string() + ": cannot list directory: " + ec.message());
-    if (all == 0)
+    const std::vector<FrameFile> all = listFrameFiles(directory, "frame_", ".ply");
+    if (all.empty())
         throw IoError(directory.string() +
                       ": no particle frames (frame_NNNNN.ply) in the directory");
+    std::vector<FrameFile> frames;
+    for (const FrameFile& f : all)
+        if (range.contains(f.frame)) frames.push_back(f);
     if (frames.empty())
         throw IoError(fmt::format("{}: none of its {} particle frames is in the requested range",
-                                  directory.string(), all));
+                                  directory.string(), all.size()));
+    return frames;
+}
+
+std::vector<FrameFile> listFrameFiles(const fs::path& directory, std::string_view prefix,
+                                      std::string_view suffix) {
+    std::vector<FrameFile> frames;
+    std::error_code ec;
+    if (!fs::is_directory(directory, ec)) return frames;
+    for (const auto& entry : fs::directory_iterator(directory, ec))
+        if (const int frame = frameNumber(entry.path().filename().string(), prefix, suffix);
+            frame >= 0)
+            frames.push_back({frame, entry.path()});
+    if (ec) throw IoError(directory.string() + ": cannot list directory: " + ec.message());
     std::sort(frames.begin(), frames.end(),
               [](const FrameFile& a, const FrameFile& b) { return a.frame < b.frame; });
     return frames;
@@ -131,17 +139,9 @@ float positiveFromSummary(const fs::path& directory, const char* field) {
 // k / fps. Rewritten whole after each frame: meshing a frame takes far
 // longer than listing a directory.
 void writeSurfaceCollection(const fs::path& output, double fps) {
-    std::vector<std::pair<int, std::string>> files;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(output, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (const int frame = frameNumber(name, "surface_", ".vtp"); frame >= 0)
-            files.emplace_back(frame, name);
-    }
-    if (ec) throw IoError(output.string() + ": cannot list directory: " + ec.message());
-    std::sort(files.begin(), files.end());
     std::vector<vtk::CollectionEntry> entries;
-    for (const auto& [frame, name] : files) entries.push_back({frame / fps, name});
+    for (const FrameFile& f : listFrameFiles(output, "surface_", ".vtp"))
+        entries.push_back({f.frame / fps, f.path.filename().string()});
     vtk::writeCollection(output / "surface.pvd", entries);
 }
 

@@ -45,6 +45,10 @@ struct OutputParams {
     // VTK XML particles per frame (frame_NNNNN.vtu) and particles.pvd with
     // the frame times, for ParaView (include/pbf/io/vtk.hpp).
     bool writeVtk = false;
+    // A USD stage of the run (run.usda and its per-frame layers in
+    // run_usd/, docs/clients.md), written by `pbf run` at the end of the
+    // run, after the surfaces of --mesh; as `pbf export usd RUN_DIR`.
+    bool writeUsd = false;
     // Checkpoints for --resume (docs/reliability.md): one is written when
     // `checkpointEvery` frames or `checkpointSeconds` of wall time have passed
     // since the last one (0 turns that trigger off), and at the end of a run.
@@ -52,6 +56,13 @@ struct OutputParams {
     float checkpointSeconds = 60.0f;  // wall-clock seconds, [0, 1e6]
     bool writeCheckpoints = true;     // false: none at all (not even at the end)
     RenderOutput render;
+};
+
+// A command-line override "path=value": path is dot-separated
+// ("solver.iterations"), value is JSON ("8", "[0,-9.81,0]") or a bare string.
+struct SceneOverride {
+    std::string path;
+    std::string value;
 };
 
 // A scene file: a world definition (name from the file name unless given,
@@ -63,14 +74,11 @@ struct Scene : WorldDef {
     // checkpoint and speed-limit settings): a checkpoint records it so that a
     // run is only resumed with the scene it was started with.
     std::uint64_t fingerprint = 0;
+    // The overrides applied to the file, in order (summary.json records
+    // them, so that `pbf export usd` can load the scene the run ran).
+    std::vector<SceneOverride> overrides;
 };
 
-// A command-line override "path=value": path is dot-separated
-// ("solver.iterations"), value is JSON ("8", "[0,-9.81,0]") or a bare string.
-struct SceneOverride {
-    std::string path;
-    std::string value;
-};
 SceneOverride parseOverride(std::string_view assignment);  // throws SceneError
 
 Scene loadScene(const std::filesystem::path& file,

@@ -48,6 +48,10 @@ void writeMeshObj(const std::filesystem::path& path, const TriangleMesh& mesh);
 // Binary little-endian PLY (float x y z [nx ny nz]; face list uchar/uint):
 // about half the OBJ's size, and faster to read.
 void writeMeshPly(const std::filesystem::path& path, const TriangleMesh& mesh);
+// Reads a file written by writeMeshPly (that layout, with or without
+// normals). Throws IoError naming the file for anything else or a
+// truncated file.
+TriangleMesh readMeshPly(const std::filesystem::path& path);
 // VTK XML PolyData for ParaView (pbf::vtk::writeTrianglesVtp, normals as
 // the point array Normals); `time` in seconds.
 void writeMeshVtp(const std::filesystem::path& path, const TriangleMesh& mesh, double time);

@@ -38,6 +38,12 @@ struct FrameFile {
 std::vector<FrameFile> listParticleFrames(const std::filesystem::path& directory,
                                           const FrameRange& range);
 
+// The "<prefix>NNNNN<suffix>" files of `directory` (NNNNN at least five
+// digits), in frame order; none when the directory is missing. Throws
+// IoError if it cannot be listed.
+std::vector<FrameFile> listFrameFiles(const std::filesystem::path& directory,
+                                      std::string_view prefix, std::string_view suffix);
+
 // "particle_radius" from `directory`/summary.json (written by `pbf run`),
 // or 0 if the file or the field is absent. Throws IoError if it is malformed.
 float radiusFromSummary(const std::filesystem::path& directory);
