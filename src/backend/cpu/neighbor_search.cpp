@@ -77,8 +77,10 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
             }
             grid::CellNeighborhood& nb = cells.emplace_back();
             grid::cellNeighborhood(grid, c, blocks, nb);
-            lowest = std::min(lowest, grid.cellStart[nb.cell[0]]);
-            highest = std::max(highest, grid.cellStart[nb.cell[nb.count - 1] + 1]);
+            for (std::uint32_t k = 0; k < nb.count; ++k) {
+                lowest = std::min(lowest, grid.cellStart[nb.cell[k]]);
+                highest = std::max(highest, grid.cellStart[nb.cell[k] + 1]);
+            }
         }
         block.wide = highest - lowest > compactSpan_;
         block.base = block.wide ? 0 : lowest;
@@ -101,9 +103,15 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
             i = grid::collectBlockLists(job, i, end, used);
             if (i == end) break;
             // Particle i's candidates might not fit: grow (rarely, amortised;
-            // reserve first: resize alone may double the capacity). Its
-            // cell's neighbourhood holds at most all of the block's reach.
-            const std::size_t candidates = highest - lowest;
+            // reserve first: resize alone may double the capacity).
+            const auto cell = static_cast<std::uint32_t>(
+                std::upper_bound(cells_.cellStart.begin(), cells_.cellStart.end(),
+                                 static_cast<std::uint32_t>(i)) -
+                cells_.cellStart.begin() - 1);
+            std::size_t candidates = 0;
+            grid::forEachStencilRange(
+                grid, cells[cell - firstCell], cell, positions.get(i),
+                [&](std::uint32_t first, std::uint32_t last) { candidates += last - first; });
             const std::size_t needed = units * (used + candidates + simd::kMaxLanes);
             const std::size_t grown = needed + needed / 16 + 1024;
             block.entries.reserve(grown);

@@ -39,7 +39,8 @@ std::vector<Vec3> randomPoints(std::mt19937& rng, std::size_t count, const Aabb&
 // Counts the blocks whose lists are compact into `compactBlocks`.
 void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float h,
                              std::uint32_t compactSpan = 65536,
-                             std::size_t* compactBlocks = nullptr) {
+                             std::size_t* compactBlocks = nullptr,
+                             std::size_t* blocks = nullptr) {
     pbf::ParticleStore p;
     for (const Vec3& x : points) p.add(x, {}, 1000.0f);
     pbf::NeighborSearch search(domain, h, compactSpan);
@@ -68,6 +69,7 @@ void expectMatchesBruteForce(std::vector<Vec3> points, const Aabb& domain, float
     }
     EXPECT_EQ(pairs, search.totalNeighborCount());
     if (compactBlocks) *compactBlocks = search.compactBlockCount();
+    if (blocks) *blocks = search.blockCount();
 }
 
 const Aabb kUnitBox{{0, 0, 0}, {1, 1, 1}};
@@ -118,14 +120,15 @@ TEST(NeighborSearch, ElongatedDomainsMatch) {
 }
 
 TEST(NeighborSearch, CompactAndWideListsBothMatch) {
-    // 5000 points: five blocks of lists. Normally all compact (16-bit
+    // 5000 points: several blocks of lists. Normally all compact (16-bit
     // offsets); with a tiny allowed span all wide (32-bit indices).
     std::mt19937 rng(6);
     std::vector<Vec3> points = randomPoints(rng, 5000, kUnitBox, 0.0f, 1.0f);
-    std::size_t compact = 0;
-    expectMatchesBruteForce(points, kUnitBox, 0.07f, 65536, &compact);
-    EXPECT_EQ(compact, 5u);
-    expectMatchesBruteForce(points, kUnitBox, 0.07f, 16, &compact);
+    std::size_t compact = 0, blocks = 0;
+    expectMatchesBruteForce(points, kUnitBox, 0.07f, 65536, &compact, &blocks);
+    EXPECT_GT(blocks, 1u);
+    EXPECT_EQ(compact, blocks);
+    expectMatchesBruteForce(points, kUnitBox, 0.07f, 16, &compact, &blocks);
     EXPECT_EQ(compact, 0u);
 }
 
