@@ -92,11 +92,8 @@ PBF_HD inline void blockNeighborhood(const SparseGridView& g, std::uint32_t b, s
             }
 }
 
-// An occupied cell's occupied neighbours (itself included), in the order of
-// their offsets (dz, then dy, then dx from -1 to 1): the same on every
-// backend and rank, so every particle's list is too. Within a row of three
-// cells along x, consecutive cells of one 2x2x2 Morton block are adjacent
-// in memory and merge into one range.
+// An occupied cell's occupied neighbours (itself included), in increasing
+// cell index: the order their particles lie in memory.
 struct CellNeighborhood {
     std::uint32_t count;
     std::uint32_t cell[27];
@@ -109,35 +106,37 @@ PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
                                     const std::int32_t blocks[27], CellNeighborhood& out) {
     const cell_key::CellCoords cc = cell_key::mortonCoords(g.cellKey[c]);
     out.count = 0;
-    const std::int64_t top = cell_key::kCellsPerAxis - 1;
-    for (int dz = -1; dz <= 1; ++dz) {
-        const std::int64_t z = std::int64_t(cc.z) + dz;
-        if (z < 0 || z > top) continue;
-        const int bz = int(z >> 2) - int(cc.z >> 2);
-        const std::uint32_t sz = std::uint32_t(((z & 1) << 2) | ((z & 2) << 4));
-        for (int dy = -1; dy <= 1; ++dy) {
-            const std::int64_t y = std::int64_t(cc.y) + dy;
-            if (y < 0 || y > top) continue;
-            const int by = int(y >> 2) - int(cc.y >> 2);
-            const std::uint32_t sy = std::uint32_t(((y & 1) << 1) | ((y & 2) << 3));
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
-                const std::int64_t x = std::int64_t(cc.x) + dx;
-                if (x < 0 || x > top) continue;
-                const int bx = int(x >> 2) - int(cc.x >> 2);
-                // The cell's place in its 4x4x4 block: the low 6 bits of its key.
-                const std::uint32_t sub = std::uint32_t((x & 1) | ((x & 2) << 2)) | sy | sz;
+                const std::int64_t x = std::int64_t(cc.x) + dx, y = std::int64_t(cc.y) + dy,
+                                   z = std::int64_t(cc.z) + dz;
+                if (x < 0 || y < 0 || z < 0 || x >= cell_key::kCellsPerAxis ||
+                    y >= cell_key::kCellsPerAxis || z >= cell_key::kCellsPerAxis)
+                    continue;
+                // Which of the 27 blocks, and where in it.
+                const int bx = int(x >> 2) - int(cc.x >> 2), by = int(y >> 2) - int(cc.y >> 2),
+                          bz = int(z >> 2) - int(cc.z >> 2);
+                const std::uint32_t sub = static_cast<std::uint32_t>(
+                    cell_key::mortonKey({std::uint32_t(x & 3), std::uint32_t(y & 3),
+                                         std::uint32_t(z & 3)}));
                 const std::int32_t n = g.cellInBlock(blocks[offsetCode(bx, by, bz)], sub);
                 if (n < 0) continue;
-                out.cell[out.count] = std::uint32_t(n);
-                out.offset[out.count++] = static_cast<std::uint8_t>(offsetCode(dx, dy, dz));
+                // Insert in increasing cell order (at most 27 entries).
+                std::uint32_t k = out.count++;
+                while (k > 0 && out.cell[k - 1] > std::uint32_t(n)) {
+                    out.cell[k] = out.cell[k - 1];
+                    out.offset[k] = out.offset[k - 1];
+                    --k;
+                }
+                out.cell[k] = std::uint32_t(n);
+                out.offset[k] = static_cast<std::uint8_t>(offsetCode(dx, dy, dz));
             }
-        }
-    }
 }
 
 // Calls visit(first, last) for the particle ranges of the cells of `nb` (the
 // neighbourhood of the cell holding p) that come within the kernel radius of
-// p, in the neighbourhood's order, ranges of consecutive cells merged. Cells
+// p, in increasing index order, ranges of consecutive cells merged. Cells
 // farther than h from p hold no neighbour and are skipped. Distances are
 // measured in cell units from the same float arithmetic that chose p's cell,
 // with a margin that grows with the coordinates (a float's rounding error

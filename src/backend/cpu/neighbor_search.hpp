@@ -78,8 +78,7 @@ class NeighborSearch {
     // Builds neighbour lists from positions already ordered by sortByCell.
     void buildNeighborLists(const Float3Array& positions);
 
-    // The particles closer than h to particle i: cell by cell in the order
-    // of the cells' offsets, each cell's in index order.
+    // The particles closer than h to particle i, in increasing index order.
     NeighborList neighbors(std::size_t i) const {
         const ListBlock& block = blocks_[i / kListBlockSize];
         return {block.entries.data() + listStart_[i], listCount_[i], block.base, block.wide};

@@ -69,7 +69,7 @@ struct DeviceGrid {
 // h at the neighbour search (`search`: x* when the grid was built). The
 // iterations then move x*, but the set of pairs stays that of the search,
 // as with the CPU and reference backends' lists; the kernels evaluate the
-// pairs at the current positions (zero beyond h). In the CPU lists' order.
+// pairs at the current positions (zero beyond h). In increasing index order.
 struct StencilNeighbors {
     DeviceGrid grid;
     Float3View search;
