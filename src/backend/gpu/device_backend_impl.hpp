@@ -3,8 +3,8 @@
 // device system; PBF_DEVICE_NAMESPACE names the build). Only Thrust
 // algorithms the CUDA toolkit's CCCL and Debian's Thrust 1.17 share:
 // device_vector, for_each_n, stable_sort_by_key, gather, lower_bound,
-// transform_reduce, copy, fill, inner_product, unique_copy, reduce_by_key,
-// transform (and, on a GPU, CUB's radix sort).
+// transform_reduce, copy, copy_if, count_if, fill, reduce_by_key, transform
+// (and, on a GPU, CUB's radix sort).
 //
 // One step (Macklin & Mueller 2013, Algorithm 1) is a StepPlan
 // (backend/step_plan.hpp) with the CPU solver's stage names, each stage a
@@ -29,6 +29,7 @@
 
 #include <thrust/binary_search.h>
 #include <thrust/copy.h>
+#include <thrust/count.h>
 #include <thrust/device_free.h>
 #include <thrust/device_malloc.h>
 #include <thrust/device_vector.h>
@@ -37,7 +38,6 @@
 #include <thrust/for_each.h>
 #include <thrust/functional.h>
 #include <thrust/gather.h>
-#include <thrust/inner_product.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
 #include <thrust/reduce.h>
@@ -45,7 +45,6 @@
 #include <thrust/sort.h>
 #include <thrust/transform.h>
 #include <thrust/transform_reduce.h>
-#include <thrust/unique.h>
 #if THRUST_DEVICE_SYSTEM == THRUST_DEVICE_SYSTEM_CUDA && !defined(THRUST_CUB_WRAPPED_NAMESPACE)
 #include <cub/device/device_radix_sort.cuh>
 #endif
@@ -1002,17 +1001,18 @@ class DeviceBackend final : public Backend {
             cellCount_ = blockCount_ = 0;
             return;
         }
-        // Occupied cells: the distinct keys, where each starts, whose each particle is.
-        cellCount_ = 1 + static_cast<std::uint32_t>(thrust::inner_product(
-                             thrust::device(scratch_), keys_.begin(), keys_.end() - 1,
-                             keys_.begin() + 1, std::uint32_t{0}, thrust::plus<std::uint32_t>(),
-                             thrust::not_equal_to<std::uint64_t>()));
+        // Occupied cells: where each starts (the particles whose key differs
+        // from their left neighbour's), their keys, whose each particle is.
+        const StartsCell startsCell{raw(keys_)};
+        cellCount_ = static_cast<std::uint32_t>(
+            thrust::count_if(thrust::device(scratch_), indices(), indices(n), startsCell));
         const std::uint32_t cells = cellCount_;
         cellKey_.resize(cells);
         cellStart_.resize(cells + 1);
-        thrust::unique_copy(thrust::device(scratch_), keys_.begin(), keys_.end(), cellKey_.begin());
-        thrust::lower_bound(thrust::device(scratch_), keys_.begin(), keys_.end(), cellKey_.begin(),
-                            cellKey_.end(), cellStart_.begin());
+        thrust::copy_if(thrust::device(scratch_), indices(), indices(n), cellStart_.begin(),
+                        startsCell);
+        thrust::gather(thrust::device(scratch_), cellStart_.begin(), cellStart_.begin() + cells,
+                       keys_.begin(), cellKey_.begin());
         cellStart_[cells] = n;
         particleCell_.resize(n);
         thrust::lower_bound(thrust::device(scratch_), cellKey_.begin(), cellKey_.end(),

@@ -235,8 +235,14 @@ struct CellKeyKernel {
     }
 };
 
-// The sparse grid's pieces from the sorted keys: a cell key's block, its
-// bit in the block's mask; each block's 27 neighbouring blocks.
+// The sparse grid's pieces from the sorted keys: whether a particle is the
+// first of its cell (index 0 is tested before its left neighbour is read:
+// Thrust 1.17's unique_copy read the key before the first), a cell key's
+// block, its bit in the block's mask; each block's 27 neighbouring blocks.
+struct StartsCell {
+    const std::uint64_t* keys = nullptr;
+    PBF_HD bool operator()(std::uint32_t i) const { return i == 0 || keys[i] != keys[i - 1]; }
+};
 struct BlockOfKey {
     PBF_HD std::uint64_t operator()(std::uint64_t key) const { return key >> grid::kBlockShift; }
 };

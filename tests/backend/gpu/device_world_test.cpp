@@ -94,10 +94,15 @@ TEST(DeviceWorld, DamBreakAgreesWithTheCpuOverFiftySubsteps) {
                                        options);
 }
 
+// 40 substeps: the over-relaxed flow's one-ulp twins reach 0.06-0.07
+// spacings by substep 50, where a backend's drift says no more than chaos
+// does (tests/backend/reference/world_vs_reference_test.cpp).
 TEST(DeviceWorld, OverRelaxedDamBreakAgreesWithTheCpu) {
     PBF_REQUIRE_DEVICE();
+    DriftOptions options;
+    options.substeps = 40;
     expectDriftWithinOneUlpSensitivity(smallDamBreak(R"(, "over_relaxation": 1.2)"),
-                                       BackendKind::Cpu, deviceUnderTest());
+                                       BackendKind::Cpu, deviceUnderTest(), options);
 }
 
 // A rigid body: the device records the coupled surface's moves and sums
