@@ -27,7 +27,7 @@ using pbf::Vec3;
 namespace ck = pbf::cell_key;
 
 struct Result {
-    double compact, distance, passMs;
+    double compact, particleCompact, ranges, distance, passMs;
 };
 
 template <class KeyOf>
@@ -50,9 +50,11 @@ Result measure(const std::vector<Vec3>& points, float h, KeyOf keyOf) {
         if (!added) it->second.second = std::uint32_t(k + 1);
     }
     std::vector<std::uint32_t> start(n + 1, 0), index;
-    double distance = 0.0;
+    double distance = 0.0, ranges = 0.0;
+    std::size_t particleCompact = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const ck::CellCoords c = frame.coords(x[i]);
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> spans;
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -61,6 +63,7 @@ Result measure(const std::vector<Vec3>& points, float h, KeyOf keyOf) {
                     const auto it = cells.find(ck::mortonKey(
                         {c.x + std::uint32_t(dx), c.y + std::uint32_t(dy), c.z + std::uint32_t(dz)}));
                     if (it == cells.end()) continue;
+                    spans.push_back(it->second);
                     for (std::uint32_t j = it->second.first; j < it->second.second; ++j) {
                         const Vec3 d = x[i] - x[j];
                         if (j != i && dot(d, d) < h * h) {
@@ -70,6 +73,14 @@ Result measure(const std::vector<Vec3>& points, float h, KeyOf keyOf) {
                     }
                 }
         start[i + 1] = std::uint32_t(index.size());
+        std::sort(spans.begin(), spans.end());
+        std::uint32_t lo = std::uint32_t(i), hi = std::uint32_t(i);
+        for (std::size_t k = 0; k < spans.size(); ++k) {
+            ranges += (k == 0 || spans[k].first != spans[k - 1].second) ? 1.0 : 0.0;
+            lo = std::min(lo, spans[k].first);
+            hi = std::max(hi, spans[k].second);
+        }
+        particleCompact += (i - lo <= 32768 && hi - i <= 32768) ? 1 : 0;
     }
     std::size_t compact = 0, blocks = 0;
     for (std::size_t b = 0; b < n; b += 1024, ++blocks) {
@@ -95,7 +106,8 @@ Result measure(const std::vector<Vec3>& points, float h, KeyOf keyOf) {
         }
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return {double(compact) / double(blocks), distance / double(index.size()), ms};
+    return {double(compact) / double(blocks), double(particleCompact) / double(n),
+            ranges / double(n), distance / double(index.size()), ms};
 }
 
 }  // namespace
@@ -114,17 +126,24 @@ int main(int argc, char** argv) {
                                   0.3f + (float(j) + 0.5f) * spacing + jitter(rng),
                                   0.3f + (float(k) + 0.5f) * spacing + jitter(rng)});
     std::printf("%zu particles, h = 2 spacings\n", points.size());
-    std::printf("%-8s %9s %10s %9s\n", "curve", "compact", "distance", "pass ms");
+    std::printf("%-8s %9s %9s %7s %10s %9s\n", "curve", "compact", "p-compact", "ranges",
+                "distance", "pass ms");
+    const auto print = [](const char* name, const Result& r) {
+        std::printf("%-8s %9.3f %9.3f %7.2f %10.0f %9.1f\n", name, r.compact, r.particleCompact,
+                    r.ranges, r.distance, r.passMs);
+    };
     for (int round = 0; round < 2; ++round) {
-        const Result m = measure(points, h, [](ck::CellCoords c) { return ck::mortonKey(c); });
-        const Result hb = measure(points, h, [](ck::CellCoords c) { return ck::hilbertKey(c); });
-        std::printf("%-8s %9.3f %10.0f %9.1f\n", "morton", m.compact, m.distance, m.passMs);
-        std::printf("%-8s %9.3f %10.0f %9.1f\n", "hilbert", hb.compact, hb.distance, hb.passMs);
+        print("morton", measure(points, h, [](ck::CellCoords c) { return ck::mortonKey(c); }));
+        print("hilbert", measure(points, h, [](ck::CellCoords c) { return ck::hilbertKey(c); }));
+        // Morton order of 4x4x4 blocks, rows of cells (x fastest) inside each.
+        print("m-rows4", measure(points, h, [](ck::CellCoords c) {
+                  const std::uint64_t block = ck::mortonKey({c.x >> 2, c.y >> 2, c.z >> 2});
+                  return block << 6 | (c.z & 3u) << 4 | (c.y & 3u) << 2 | (c.x & 3u);
+              }));
         // Rows of cells, the longest axis (y) slowest: the dense grid's order.
-        const Result rows = measure(points, h, [](ck::CellCoords c) {
-            return std::uint64_t(c.y) << 42 | std::uint64_t(c.z) << 21 | c.x;
-        });
-        std::printf("%-8s %9.3f %10.0f %9.1f\n", "rows", rows.compact, rows.distance, rows.passMs);
+        print("rows", measure(points, h, [](ck::CellCoords c) {
+                  return std::uint64_t(c.y) << 42 | std::uint64_t(c.z) << 21 | c.x;
+              }));
     }
     return 0;
 }

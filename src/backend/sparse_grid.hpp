@@ -95,43 +95,104 @@ PBF_HD inline void blockNeighborhood(const SparseGridView& g, std::uint32_t b, s
 // An occupied cell's occupied neighbours (itself included), in increasing
 // cell index: the order their particles lie in memory.
 struct CellNeighborhood {
+    cell_key::CellCoords centre;  // the cell's own coordinates
     std::uint32_t count;
     std::uint32_t cell[27];
     std::uint8_t offset[27];  // offsetCode of each
 };
 
+
+// The cells of a 4x4x4 block whose coordinate along `axis` is in the set
+// `coords` (bit v: coordinate v), as a mask over the block's Morton-ordered
+// cells (bit axis of the cell's index is the coordinate's low bit, bit
+// axis + 3 its high bit); the and of three is a box's mask.
+PBF_HD inline std::uint64_t axisMask(int axis, std::uint32_t coords) {
+    constexpr std::uint64_t kLowBit[3] = {0xAAAAAAAAAAAAAAAAull, 0xCCCCCCCCCCCCCCCCull,
+                                          0xF0F0F0F0F0F0F0F0ull};
+    constexpr std::uint64_t kHighBit[3] = {0xFF00FF00FF00FF00ull, 0xFFFF0000FFFF0000ull,
+                                           0xFFFFFFFF00000000ull};
+    const std::uint64_t low = kLowBit[axis], high = kHighBit[axis];
+    std::uint64_t mask = 0;
+    if (coords & 1u) mask |= ~low & ~high;
+    if (coords & 2u) mask |= low & ~high;
+    if (coords & 4u) mask |= ~low & high;
+    if (coords & 8u) mask |= low & high;
+    return mask;
+}
+
+PBF_HD inline int lowestBit(std::uint64_t v) {
+#if defined(__CUDA_ARCH__)
+    return __ffsll(static_cast<long long>(v)) - 1;
+#else
+    return __builtin_ctzll(v);
+#endif
+}
+
 // The neighbourhood of cell c, given the neighbourhood of its block
-// (blockNeighborhood of cellKey[c] >> 6's index).
+// (blockNeighborhood of cellKey[c] >> 6's index). Per axis, the cell's
+// neighbours lie in its own block's 4 columns (the cell's coordinate there
+// plus and minus one, within 0..3), and in the block before or after only
+// where the cell sits on that face; so they are the occupied cells of at
+// most 8 boxes, one per block, each a mask and'ed with the block's
+// occupancy. Blocks in increasing index order and, inside one, cells in
+// increasing Morton order give the cells in increasing index order, with no
+// sort and no per-cell search.
 PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
                                     const std::int32_t blocks[27], CellNeighborhood& out) {
-    const cell_key::CellCoords cc = cell_key::mortonCoords(g.cellKey[c]);
+    const std::uint64_t key = g.cellKey[c];
+    out.centre = cell_key::mortonCoords(key);
     out.count = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const std::int64_t x = std::int64_t(cc.x) + dx, y = std::int64_t(cc.y) + dy,
-                                   z = std::int64_t(cc.z) + dz;
-                if (x < 0 || y < 0 || z < 0 || x >= cell_key::kCellsPerAxis ||
-                    y >= cell_key::kCellsPerAxis || z >= cell_key::kCellsPerAxis)
-                    continue;
-                // Which of the 27 blocks, and where in it.
-                const int bx = int(x >> 2) - int(cc.x >> 2), by = int(y >> 2) - int(cc.y >> 2),
-                          bz = int(z >> 2) - int(cc.z >> 2);
-                const std::uint32_t sub = static_cast<std::uint32_t>(
-                    cell_key::mortonKey({std::uint32_t(x & 3), std::uint32_t(y & 3),
-                                         std::uint32_t(z & 3)}));
-                const std::int32_t n = g.cellInBlock(blocks[offsetCode(bx, by, bz)], sub);
-                if (n < 0) continue;
-                // Insert in increasing cell order (at most 27 entries).
-                std::uint32_t k = out.count++;
-                while (k > 0 && out.cell[k - 1] > std::uint32_t(n)) {
-                    out.cell[k] = out.cell[k - 1];
-                    out.offset[k] = out.offset[k - 1];
+    const std::uint32_t own[3] = {cell_key::compactBits(key & 63u),
+                                  cell_key::compactBits((key >> 1) & 31u),
+                                  cell_key::compactBits((key >> 2) & 15u)};
+    // Per axis and block step s - 1: the coordinates (bit set) the cell
+    // reaches in that block, and the mask of the cells with them.
+    std::uint64_t reach[3][3];
+    for (int a = 0; a < 3; ++a) {
+        const std::uint32_t p = own[a];
+        const std::uint32_t inside = (0x7u << p >> 1) & 0xFu;  // p - 1, p, p + 1 within 0..3
+        reach[a][0] = p == 0 ? axisMask(a, 0x8u) : 0;
+        reach[a][1] = axisMask(a, inside);
+        reach[a][2] = p == 3 ? axisMask(a, 0x1u) : 0;
+    }
+    // The touched blocks (at most 8), in increasing block index.
+    std::int32_t blockIndex[8];
+    std::uint64_t wanted[8];
+    int blockCode[8];
+    int touched = 0;
+    for (int sz = 0; sz < 3; ++sz)
+        for (int sy = 0; sy < 3; ++sy)
+            for (int sx = 0; sx < 3; ++sx) {
+                const std::uint64_t box = reach[0][sx] & reach[1][sy] & reach[2][sz];
+                const int code = sx + 3 * sy + 9 * sz;
+                if (box == 0 || blocks[code] < 0) continue;
+                const std::uint64_t occupied = box & g.blockMask[blocks[code]];
+                if (occupied == 0) continue;
+                int k = touched++;
+                while (k > 0 && blockIndex[k - 1] > blocks[code]) {
+                    blockIndex[k] = blockIndex[k - 1];
+                    wanted[k] = wanted[k - 1];
+                    blockCode[k] = blockCode[k - 1];
                     --k;
                 }
-                out.cell[k] = std::uint32_t(n);
-                out.offset[k] = static_cast<std::uint8_t>(offsetCode(dx, dy, dz));
+                blockIndex[k] = blocks[code];
+                wanted[k] = occupied;
+                blockCode[k] = code;
             }
+    for (int b = 0; b < touched; ++b) {
+        const std::uint64_t mask = g.blockMask[blockIndex[b]];
+        const int step[3] = {blockCode[b] % 3 - 1, (blockCode[b] / 3) % 3 - 1, blockCode[b] / 9 - 1};
+        for (std::uint64_t bits = wanted[b]; bits != 0; bits &= bits - 1) {
+            const int sub = lowestBit(bits);
+            const std::uint64_t below = mask & ((std::uint64_t{1} << sub) - 1u);
+            out.cell[out.count] = g.blockFirstCell[blockIndex[b]] + std::uint32_t(popcount64(below));
+            const int d[3] = {
+                4 * step[0] + int(cell_key::compactBits(std::uint64_t(sub))) - int(own[0]),
+                4 * step[1] + int(cell_key::compactBits(std::uint64_t(sub) >> 1)) - int(own[1]),
+                4 * step[2] + int(cell_key::compactBits(std::uint64_t(sub) >> 2)) - int(own[2])};
+            out.offset[out.count++] = static_cast<std::uint8_t>(offsetCode(d[0], d[1], d[2]));
+        }
+    }
 }
 
 // Calls visit(first, last) for the particle ranges of the cells of `nb` (the
@@ -150,14 +211,19 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
     // Where p lies in its cell along each axis, in [0, 1] (clamped: for
     // points beyond the key's range this underestimates the distance to the
     // neighbours, so nothing closer than h is dropped).
-    const cell_key::CellCoords c = cell_key::mortonCoords(g.cellKey[cell]);
-    const std::uint32_t cc[3] = {c.x, c.y, c.z};
-    float lower[3], upper[3];
+    (void)cell;
+    const std::uint32_t cc[3] = {nb.centre.x, nb.centre.y, nb.centre.z};
+    // gap2[a][s]: the squared distance from p to the neighbour cells of step
+    // s - 1 along axis a (0 for its own column).
+    float gap2[3][3];
     float magnitude = 0.0f;  // the largest |coordinate| involved, in cells
     for (int a = 0; a < 3; ++a) {
         const float f = (p[a] - g.frame.origin[a]) * g.frame.inverseCell - float(cc[a]);
-        lower[a] = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
-        upper[a] = 1.0f - lower[a];
+        const float lower = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
+        const float upper = 1.0f - lower;
+        gap2[a][0] = lower * lower;
+        gap2[a][1] = 0.0f;
+        gap2[a][2] = upper * upper;
         const float o = g.frame.origin[a];
         const float m = ((p[a] < 0.0f ? -p[a] : p[a]) + (o < 0.0f ? -o : o)) * g.frame.inverseCell;
         magnitude = m > magnitude ? m : magnitude;
@@ -168,12 +234,7 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
     std::uint32_t first = 0, last = 0;  // the range being merged
     for (std::uint32_t k = 0; k < nb.count; ++k) {
         const int code = nb.offset[k];
-        const int d[3] = {code % 3 - 1, (code / 3) % 3 - 1, code / 9 - 1};
-        float r2 = 0.0f;
-        for (int a = 0; a < 3; ++a) {
-            const float gap = d[a] < 0 ? lower[a] : (d[a] > 0 ? upper[a] : 0.0f);
-            r2 += gap * gap;
-        }
+        const float r2 = gap2[0][code % 3] + gap2[1][(code / 3) % 3] + gap2[2][code / 9];
         if (r2 >= reach2) continue;
         const std::uint32_t begin = g.cellStart[nb.cell[k]], end = g.cellStart[nb.cell[k] + 1];
         if (begin == last && last != first) {

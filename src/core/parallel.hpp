@@ -27,11 +27,16 @@ inline int threadIndex() {
 
 // Calls fn(begin, end) over [0, n) in blocks of `blockSize`, in parallel.
 // Each index is visited exactly once; fn must write only the entries of its
-// own range.
+// own range. Static schedule: each thread takes one contiguous run of
+// blocks, the same in every loop over the same n, so a thread's particles
+// (a compact piece of the cell key's curve) and their neighbours stay in
+// its core's cache from one solver pass to the next. Measured on the 2-core
+// machine, 128k dam break: 31 against 36 ms per step with dynamic
+// scheduling (which hands the blocks out anew in every pass).
 template <class Fn>
 void parallelForBlocks(std::size_t n, std::size_t blockSize, Fn&& fn) {
     const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((n + blockSize - 1) / blockSize);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threadCount()) if (blocks > 1)
+#pragma omp parallel for schedule(static) num_threads(threadCount()) if (blocks > 1)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
         const std::size_t begin = static_cast<std::size_t>(b) * blockSize;
         fn(begin, std::min(n, begin + blockSize));
