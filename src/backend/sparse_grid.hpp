@@ -98,7 +98,8 @@ struct CellNeighborhood {
     cell_key::CellCoords centre;  // the cell's own coordinates
     std::uint32_t count;
     std::uint32_t cell[27];
-    std::uint8_t offset[27];  // offsetCode of each
+    std::uint32_t begin[27], end[27];  // the particles of each: [begin, end)
+    std::uint8_t offset[27];           // offsetCode of each
 };
 
 
@@ -185,7 +186,11 @@ PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
         for (std::uint64_t bits = wanted[b]; bits != 0; bits &= bits - 1) {
             const int sub = lowestBit(bits);
             const std::uint64_t below = mask & ((std::uint64_t{1} << sub) - 1u);
-            out.cell[out.count] = g.blockFirstCell[blockIndex[b]] + std::uint32_t(popcount64(below));
+            const std::uint32_t cell =
+                g.blockFirstCell[blockIndex[b]] + std::uint32_t(popcount64(below));
+            out.cell[out.count] = cell;
+            out.begin[out.count] = g.cellStart[cell];
+            out.end[out.count] = g.cellStart[cell + 1];
             const int d[3] = {
                 4 * step[0] + int(cell_key::compactBits(std::uint64_t(sub))) - int(own[0]),
                 4 * step[1] + int(cell_key::compactBits(std::uint64_t(sub) >> 1)) - int(own[1]),
@@ -231,12 +236,19 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
     // A few float roundings of the largest magnitude (2^-20 of it), and 1e-4.
     const float margin = 1e-4f + magnitude * (1.0f / 1048576.0f);
     const float reach2 = (1.0f + margin) * (1.0f + margin);
+    // Bit `code` set: the neighbour cell of that offset comes within reach.
+    // Branch-free over constant indices (the compiler unrolls it and keeps
+    // the gaps in registers): the walk below then tests one bit per cell.
+    std::uint32_t within = 0;
+    for (int sz = 0; sz < 3; ++sz)
+        for (int sy = 0; sy < 3; ++sy)
+            for (int sx = 0; sx < 3; ++sx)
+                within |= std::uint32_t(gap2[0][sx] + gap2[1][sy] + gap2[2][sz] < reach2)
+                          << (sx + 3 * sy + 9 * sz);
     std::uint32_t first = 0, last = 0;  // the range being merged
     for (std::uint32_t k = 0; k < nb.count; ++k) {
-        const int code = nb.offset[k];
-        const float r2 = gap2[0][code % 3] + gap2[1][(code / 3) % 3] + gap2[2][code / 9];
-        if (r2 >= reach2) continue;
-        const std::uint32_t begin = g.cellStart[nb.cell[k]], end = g.cellStart[nb.cell[k] + 1];
+        if (!((within >> nb.offset[k]) & 1u)) continue;
+        const std::uint32_t begin = nb.begin[k], end = nb.end[k];
         if (begin == last && last != first) {
             last = end;
             continue;
