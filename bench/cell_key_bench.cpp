@@ -1,10 +1,16 @@
-// Morton against Hilbert as the cell key's curve, and rows of cells (the
-// dense grid's order, longest axis slowest): how the particle order each
-// gives serves the neighbour passes. A jittered block of water shaped
-// like the dam break's column (1 : 2 : 1), sorted stably by each curve's
-// key of its kernel-radius cell; for each order:
+// Orders of the cells for the cell key: Morton's and Hilbert's curves over
+// single cells, Morton over 4x4x4 blocks with rows inside (m-rows4), Morton
+// over bricks of 8, 16, 32 cells a side with rows of cells inside
+// (brickN), Morton over bricks of blocks with rows of blocks inside
+// (blk-rN), pbf's key (bricks of 64 x 32 x 32 cells, rows inside), and
+// rows of cells over the whole domain (the dense grid's order, longest axis
+// slowest): how the particle order each gives serves the neighbour passes.
+// A jittered block of water shaped like the dam break's column (1 : 2 : 1),
+// sorted stably by each order's key of its kernel-radius cell; for each:
 //   compact    share of 1024-particle blocks whose neighbours' indices span
 //              at most 65536 (the CPU search's 16-bit lists)
+//   p-compact  share of particles whose neighbours lie within 32768 of it
+//   ranges     runs of consecutive particles a particle's 27 cells make
 //   distance   mean |i - j| over neighbour pairs (memory distance)
 //   pass ms    a density-like sum over CSR neighbour lists (4 passes), the
 //              memory-bound shape of the solver's iterations
@@ -140,6 +146,32 @@ int main(int argc, char** argv) {
                   const std::uint64_t block = ck::mortonKey({c.x >> 2, c.y >> 2, c.z >> 2});
                   return block << 6 | (c.z & 3u) << 4 | (c.y & 3u) << 2 | (c.x & 3u);
               }));
+        for (const std::uint32_t b : {3u, 4u, 5u}) {
+            const std::uint32_t low = (1u << b) - 1u;
+            char name[16];
+            std::snprintf(name, sizeof name, "brick%u", 1u << b);
+            print(name, measure(points, h, [b, low](ck::CellCoords c) {
+                      const std::uint64_t brick = ck::mortonKey({c.x >> b, c.y >> b, c.z >> b});
+                      return brick << (3 * b) | std::uint64_t(c.y & low) << (2 * b) |
+                             std::uint64_t(c.z & low) << b | (c.x & low);
+                  }));
+        }
+        // Morton order of bricks of 2^b 4x4x4 blocks a side, rows of blocks inside a
+        // brick (x fastest, y slowest), Morton order of the cells inside a block.
+        for (const std::uint32_t b : {2u, 3u, 4u}) {
+            const std::uint32_t low = (1u << b) - 1u;
+            char name[16];
+            std::snprintf(name, sizeof name, "blk-r%u", 1u << b);
+            print(name, measure(points, h, [b, low](ck::CellCoords c) {
+                      const ck::CellCoords q{c.x >> 2, c.y >> 2, c.z >> 2};
+                      const std::uint64_t brick = ck::mortonKey({q.x >> b, q.y >> b, q.z >> b});
+                      const std::uint64_t rows = std::uint64_t(q.y & low) << (2 * b) |
+                                                 std::uint64_t(q.z & low) << b | (q.x & low);
+                      return (brick << (3 * b) | rows) << 6 |
+                             ck::mortonKey({c.x & 3u, c.y & 3u, c.z & 3u});
+                  }));
+        }
+        print("pbf key", measure(points, h, [](ck::CellCoords c) { return ck::cellKey(c); }));
         // Rows of cells, the longest axis (y) slowest: the dense grid's order.
         print("rows", measure(points, h, [](ck::CellCoords c) {
                   return std::uint64_t(c.y) << 42 | std::uint64_t(c.z) << 21 | c.x;

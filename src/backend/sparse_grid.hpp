@@ -4,13 +4,14 @@
 // and their tests share it).
 //
 // Nothing here is sized by the domain. A cell's 26 neighbours are found by
-// their 4x4x4 blocks: a block (a cube of 64 cells whose corner coordinates
-// are multiples of 4) is one contiguous key range, key >> 6 is its own
-// Morton key, and a 64-bit mask says which of its cells hold particles. A
-// cell's neighbourhood lies in the 27 blocks around its own, found once per
-// block by binary search over the occupied blocks; each neighbour cell is
-// then one popcount away. The CPU search does this once per occupied cell
-// while it builds the lists, the GPU once per cell into a table.
+// their rows: a row (64 cells along x whose first x is a multiple of 64, at
+// one y and z) is one contiguous key range, key >> 6 is its own code, and a
+// 64-bit mask says which of its cells hold particles. A cell's neighbourhood
+// lies in the 27 rows around its own (the 9 rows at y and z plus and minus
+// one, and the rows before and after those along x), found once per row by
+// binary search over the occupied rows; each neighbour cell is then one
+// popcount away. The CPU search does this once per occupied cell while it
+// builds the lists, the GPU once per particle.
 #pragma once
 
 #include <cstddef>
@@ -23,7 +24,9 @@
 
 namespace pbf::grid {
 
-inline constexpr int kBlockShift = 6;  // key bits of the cells inside a 4x4x4 block
+// The sparse grid's blocks are the key's rows of 64 cells along x.
+inline constexpr int kBlockShift = cell_key::kRowBits;  // key bits of the cells inside a row
+static_assert(kBlockShift == 6, "a block's occupancy is one 64-bit mask");
 
 PBF_HD inline int popcount64(std::uint64_t v) {
 #if defined(__CUDA_ARCH__)
@@ -38,7 +41,7 @@ struct SparseGridView {
     const std::uint64_t* cellKey;    // occupied cells, increasing
     const std::uint32_t* cellStart;  // particles of cell c: [cellStart[c], cellStart[c + 1])
     std::uint32_t cellCount;
-    const std::uint64_t* blockKey;        // occupied blocks (cell key >> 6), increasing
+    const std::uint64_t* blockKey;        // occupied rows (cell key >> 6), increasing
     const std::uint32_t* blockFirstCell;  // each block's first occupied cell
     const std::uint64_t* blockMask;       // bit s: the block's cell with key & 63 == s occupied
     std::uint32_t blockCount;
@@ -72,22 +75,33 @@ PBF_HD inline int offsetCode(int dx, int dy, int dz) {
     return (dx + 1) + 3 * (dy + 1) + 9 * (dz + 1);
 }
 
+// A block's coordinates (x in rows, y and z in cells) and back.
+PBF_HD inline cell_key::CellCoords blockCoords(std::uint64_t blockKey) {
+    cell_key::CellCoords c = cell_key::cellCoords(blockKey << kBlockShift);
+    c.x >>= kBlockShift;
+    return c;
+}
+PBF_HD inline std::uint64_t blockKeyOf(cell_key::CellCoords block) {
+    return cell_key::cellKey({block.x << kBlockShift, block.y, block.z}) >> kBlockShift;
+}
+
 // The 27 blocks around block b (b included, code 13), -1 where none is occupied.
 PBF_HD inline void blockNeighborhood(const SparseGridView& g, std::uint32_t b, std::int32_t out[27]) {
-    const cell_key::CellCoords c = cell_key::mortonCoords(g.blockKey[b]);
-    constexpr std::uint32_t kBlocksPerAxis = cell_key::kCellsPerAxis >> 2;
+    const cell_key::CellCoords c = blockCoords(g.blockKey[b]);
+    constexpr std::int64_t kRows = cell_key::kCellsPerAxis >> kBlockShift;
+    constexpr std::int64_t kCells = cell_key::kCellsPerAxis;
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
                 const std::int64_t x = std::int64_t(c.x) + dx, y = std::int64_t(c.y) + dy,
                                    z = std::int64_t(c.z) + dz;
-                const bool inside = x >= 0 && y >= 0 && z >= 0 && x < kBlocksPerAxis &&
-                                    y < kBlocksPerAxis && z < kBlocksPerAxis;
+                const bool inside =
+                    x >= 0 && y >= 0 && z >= 0 && x < kRows && y < kCells && z < kCells;
                 out[offsetCode(dx, dy, dz)] =
                     (dx == 0 && dy == 0 && dz == 0)
                         ? static_cast<std::int32_t>(b)
-                        : (inside ? g.findBlock(cell_key::mortonKey(
-                                        {std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)}))
+                        : (inside ? g.findBlock(blockKeyOf({std::uint32_t(x), std::uint32_t(y),
+                                                            std::uint32_t(z)}))
                                   : -1);
             }
 }
@@ -103,24 +117,6 @@ struct CellNeighborhood {
 };
 
 
-// The cells of a 4x4x4 block whose coordinate along `axis` is in the set
-// `coords` (bit v: coordinate v), as a mask over the block's Morton-ordered
-// cells (bit axis of the cell's index is the coordinate's low bit, bit
-// axis + 3 its high bit); the and of three is a box's mask.
-PBF_HD inline std::uint64_t axisMask(int axis, std::uint32_t coords) {
-    constexpr std::uint64_t kLowBit[3] = {0xAAAAAAAAAAAAAAAAull, 0xCCCCCCCCCCCCCCCCull,
-                                          0xF0F0F0F0F0F0F0F0ull};
-    constexpr std::uint64_t kHighBit[3] = {0xFF00FF00FF00FF00ull, 0xFFFF0000FFFF0000ull,
-                                           0xFFFFFFFF00000000ull};
-    const std::uint64_t low = kLowBit[axis], high = kHighBit[axis];
-    std::uint64_t mask = 0;
-    if (coords & 1u) mask |= ~low & ~high;
-    if (coords & 2u) mask |= low & ~high;
-    if (coords & 4u) mask |= ~low & high;
-    if (coords & 8u) mask |= low & high;
-    return mask;
-}
-
 PBF_HD inline int lowestBit(std::uint64_t v) {
 #if defined(__CUDA_ARCH__)
     return __ffsll(static_cast<long long>(v)) - 1;
@@ -130,59 +126,52 @@ PBF_HD inline int lowestBit(std::uint64_t v) {
 }
 
 // The neighbourhood of cell c, given the neighbourhood of its block
-// (blockNeighborhood of cellKey[c] >> 6's index). Per axis, the cell's
-// neighbours lie in its own block's 4 columns (the cell's coordinate there
-// plus and minus one, within 0..3), and in the block before or after only
-// where the cell sits on that face; so they are the occupied cells of at
-// most 8 boxes, one per block, each a mask and'ed with the block's
-// occupancy. Blocks in increasing index order and, inside one, cells in
-// increasing Morton order give the cells in increasing index order, with no
-// sort and no per-cell search.
+// (blockNeighborhood of cellKey[c] >> 6's index). The cell's neighbours are
+// the cells at x - 1, x, x + 1 of the 9 rows at y and z plus and minus one
+// (three bits of each row's mask), and where the cell ends its row, the
+// first or last cell of the rows before or after: at most 18 rows, each one
+// mask and'ed with the row's occupancy. Rows in increasing index order and,
+// inside one, cells in increasing x give the cells in increasing index
+// order, with no sort and no per-cell search.
 PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
                                     const std::int32_t blocks[27], CellNeighborhood& out) {
     const std::uint64_t key = g.cellKey[c];
-    out.centre = cell_key::mortonCoords(key);
+    out.centre = cell_key::cellCoords(key);
     out.count = 0;
-    const std::uint32_t own[3] = {cell_key::compactBits(key & 63u),
-                                  cell_key::compactBits((key >> 1) & 31u),
-                                  cell_key::compactBits((key >> 2) & 15u)};
-    // Per axis and block step s - 1: the coordinates (bit set) the cell
-    // reaches in that block, and the mask of the cells with them.
-    std::uint64_t reach[3][3];
-    for (int a = 0; a < 3; ++a) {
-        const std::uint32_t p = own[a];
-        const std::uint32_t inside = (0x7u << p >> 1) & 0xFu;  // p - 1, p, p + 1 within 0..3
-        reach[a][0] = p == 0 ? axisMask(a, 0x8u) : 0;
-        reach[a][1] = axisMask(a, inside);
-        reach[a][2] = p == 3 ? axisMask(a, 0x1u) : 0;
-    }
-    // The touched blocks (at most 8), in increasing block index.
-    std::int32_t blockIndex[8];
-    std::uint64_t wanted[8];
-    int blockCode[8];
+    constexpr std::uint32_t kLast = (1u << kBlockShift) - 1u;
+    const std::uint32_t p = static_cast<std::uint32_t>(key) & kLast;  // x inside the row
+    // The cells the cell reaches in the row before (step 0), its own (1),
+    // after (2) along x.
+    const std::uint64_t reach[3] = {
+        p == 0 ? std::uint64_t{1} << kLast : 0,
+        p == 0 ? std::uint64_t{3} : std::uint64_t{7} << (p - 1),  // x + 1 = 64 shifts out
+        p == kLast ? std::uint64_t{1} : 0};
+    // The touched rows (at most 18), in increasing row index.
+    std::int32_t blockIndex[18];
+    std::uint64_t wanted[18];
+    int blockCode[18];
     int touched = 0;
-    for (int sz = 0; sz < 3; ++sz)
-        for (int sy = 0; sy < 3; ++sy)
-            for (int sx = 0; sx < 3; ++sx) {
-                const std::uint64_t box = reach[0][sx] & reach[1][sy] & reach[2][sz];
-                const int code = sx + 3 * sy + 9 * sz;
-                if (box == 0 || blocks[code] < 0) continue;
-                const std::uint64_t occupied = box & g.blockMask[blocks[code]];
-                if (occupied == 0) continue;
-                int k = touched++;
-                while (k > 0 && blockIndex[k - 1] > blocks[code]) {
-                    blockIndex[k] = blockIndex[k - 1];
-                    wanted[k] = wanted[k - 1];
-                    blockCode[k] = blockCode[k - 1];
-                    --k;
-                }
-                blockIndex[k] = blocks[code];
-                wanted[k] = occupied;
-                blockCode[k] = code;
-            }
+    for (int code = 0; code < 27; ++code) {
+        const std::uint64_t row = reach[code % 3];
+        if (row == 0 || blocks[code] < 0) continue;
+        const std::uint64_t occupied = row & g.blockMask[blocks[code]];
+        if (occupied == 0) continue;
+        int k = touched++;
+        while (k > 0 && blockIndex[k - 1] > blocks[code]) {
+            blockIndex[k] = blockIndex[k - 1];
+            wanted[k] = wanted[k - 1];
+            blockCode[k] = blockCode[k - 1];
+            --k;
+        }
+        blockIndex[k] = blocks[code];
+        wanted[k] = occupied;
+        blockCode[k] = code;
+    }
     for (int b = 0; b < touched; ++b) {
         const std::uint64_t mask = g.blockMask[blockIndex[b]];
-        const int step[3] = {blockCode[b] % 3 - 1, (blockCode[b] / 3) % 3 - 1, blockCode[b] / 9 - 1};
+        const int code = blockCode[b];
+        const int dy = (code / 3) % 3 - 1, dz = code / 9 - 1;
+        const int rowStart = ((code % 3) - 1) * int(kLast + 1) - int(p);  // dx of the row's cell 0
         for (std::uint64_t bits = wanted[b]; bits != 0; bits &= bits - 1) {
             const int sub = lowestBit(bits);
             const std::uint64_t below = mask & ((std::uint64_t{1} << sub) - 1u);
@@ -191,11 +180,7 @@ PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
             out.cell[out.count] = cell;
             out.begin[out.count] = g.cellStart[cell];
             out.end[out.count] = g.cellStart[cell + 1];
-            const int d[3] = {
-                4 * step[0] + int(cell_key::compactBits(std::uint64_t(sub))) - int(own[0]),
-                4 * step[1] + int(cell_key::compactBits(std::uint64_t(sub) >> 1)) - int(own[1]),
-                4 * step[2] + int(cell_key::compactBits(std::uint64_t(sub) >> 2)) - int(own[2])};
-            out.offset[out.count++] = static_cast<std::uint8_t>(offsetCode(d[0], d[1], d[2]));
+            out.offset[out.count++] = static_cast<std::uint8_t>(offsetCode(rowStart + sub, dy, dz));
         }
     }
 }

@@ -1,23 +1,32 @@
-// The cell key: one 64-bit space-filling-curve code of a cubic cell's integer
-// coordinates (private header, PBF_HD). Every neighbour search in pbf sorts
-// by it: the CPU and GPU solvers, the reference backend, the MPI layer and the
-// surface code. Only occupied cells are stored anywhere, so memory and time
-// follow the particles, not the domain.
+// The cell key: one 64-bit code of a cubic cell's integer coordinates
+// (private header, PBF_HD). Every neighbour search in pbf sorts by it: the
+// CPU and GPU solvers, the reference backend, the MPI layer and the surface
+// code. Only occupied cells are stored anywhere, so memory and time follow
+// the particles, not the domain.
 //
-// The curve is Morton's (Z-order): the coordinates' bits interleaved, x in
-// the lowest place. Two properties the searches rely on:
-//  * a cube of 2^k cells a side whose corner is a multiple of 2^k is one
-//    contiguous key range, and key >> 3k is its own Morton key: the sparse
-//    grid looks cells up by such blocks (backend/sparse_grid.hpp);
+// The key is a space-filling curve over bricks with rows inside them:
+// bricks of 64 x 32 x 32 cells (x, y, z) in Morton's order (the bricks'
+// coordinates' bits interleaved), and inside a brick the cells in rows, x
+// fastest, then z, then y. A particle's 26 neighbour cells are then 9 runs
+// of 3 cells contiguous in memory, and the rows the solver's passes read
+// move through memory as steadily as a dense grid's (Morton's order of
+// single cells scatters them into about 12 runs and breaks the hardware's
+// prefetch: 32 % slower passes at 1M particles, bench/cell_key_bench.cpp
+// and docs/performance.md). Three properties the searches rely on:
+//  * 64 consecutive cells along x whose first x is a multiple of 64 are 64
+//    consecutive keys, and key >> 6 is their row's own code: the sparse
+//    grid looks cells up by such rows (backend/sparse_grid.hpp);
 //  * the key grows with each coordinate separately, so the keys of a box of
 //    cells lie between those of its lowest and highest corners (the
-//    distributed split tests whole neighbourhoods with two keys).
-// Hilbert's curve keeps ranges slightly more compact but has neither
-// property cheaply; it is here for the measurement that chose Morton
-// (docs/performance.md, bench/cell_key_bench.cpp).
+//    distributed split tests whole neighbourhoods with two keys);
+//  * a brick is one contiguous key range, and Morton's order keeps
+//    neighbouring bricks close, so ranges of keys are compact pieces of
+//    space (what the distributed split hands each rank).
+// Morton's and Hilbert's codes of single cells are here for the measurement
+// that chose this layout.
 //
 // Coordinates have 21 bits each (2,097,152 cells a side: 42 km at a 2 cm
-// kernel radius); keys use the low 63 bits.
+// kernel radius); keys use all 64 bits, and ~0 is never a key.
 #pragma once
 
 #include <cmath>
@@ -67,6 +76,26 @@ PBF_HD constexpr CellCoords mortonCoords(std::uint64_t key) {
     return {compactBits(key), compactBits(key >> 1), compactBits(key >> 2)};
 }
 
+// The layout of bricks and rows: bits of x, z and y inside a brick.
+inline constexpr int kRowBits = 6;    // 64 cells along x
+inline constexpr int kBrickBits = 5;  // 32 cells along y and z
+inline constexpr int kInBrickBits = kRowBits + 2 * kBrickBits;
+
+PBF_HD constexpr std::uint64_t cellKey(CellCoords c) {
+    constexpr std::uint32_t kRow = (1u << kRowBits) - 1u, kSide = (1u << kBrickBits) - 1u;
+    const std::uint64_t brick = mortonKey({c.x >> kRowBits, c.y >> kBrickBits, c.z >> kBrickBits});
+    return brick << kInBrickBits | std::uint64_t(c.y & kSide) << (kRowBits + kBrickBits) |
+           std::uint64_t(c.z & kSide) << kRowBits | std::uint64_t(c.x & kRow);
+}
+
+PBF_HD constexpr CellCoords cellCoords(std::uint64_t key) {
+    constexpr std::uint64_t kRow = (1u << kRowBits) - 1u, kSide = (1u << kBrickBits) - 1u;
+    const CellCoords brick = mortonCoords(key >> kInBrickBits);
+    return {brick.x << kRowBits | std::uint32_t(key & kRow),
+            brick.y << kBrickBits | std::uint32_t((key >> (kRowBits + kBrickBits)) & kSide),
+            brick.z << kBrickBits | std::uint32_t((key >> kRowBits) & kSide)};
+}
+
 // Hilbert's curve by Skilling's transpose ("Programming the Hilbert curve",
 // AIP Conf. Proc. 707, 2004): coordinates -> transposed index -> key.
 PBF_HD constexpr std::uint64_t hilbertKey(CellCoords c) {
@@ -114,11 +143,17 @@ PBF_HD constexpr CellCoords hilbertCoords(std::uint64_t key) {
 }
 
 // Bits a key of cells with coordinates below `cellsPerAxis` can use: what a
-// radix sort of such keys has to look at.
+// radix sort of such keys has to look at (the key grows with each
+// coordinate, so the highest corner has the largest key).
 PBF_HD constexpr int keyBits(std::uint32_t cellsPerAxis) {
+    const std::uint32_t top = cellsPerAxis > 0 ? cellsPerAxis - 1 : 0;
+    std::uint64_t largest = cellKey({top, top, top});
     int bits = 0;
-    while (bits < kBitsPerAxis && (std::uint32_t{1} << bits) < cellsPerAxis) ++bits;
-    return 3 * bits;
+    while (largest != 0) {
+        ++bits;
+        largest >>= 1;
+    }
+    return bits;
 }
 
 // Cubic cells of edge `cell` whose coordinate 0 starts at `origin` on every
@@ -151,7 +186,7 @@ struct CellFrame {
     PBF_HD CellCoords coords(const Vec3& p) const {
         return {coordinate(p.x, origin.x), coordinate(p.y, origin.y), coordinate(p.z, origin.z)};
     }
-    PBF_HD std::uint64_t keyOf(const Vec3& p) const { return mortonKey(coords(p)); }
+    PBF_HD std::uint64_t keyOf(const Vec3& p) const { return cellKey(coords(p)); }
     // The lowest corner of a cell.
     PBF_HD Vec3 corner(CellCoords c) const {
         return {origin.x + float(c.x) * cell, origin.y + float(c.y) * cell,

@@ -66,10 +66,10 @@ class SortedCells {
         };
         return {axis(p.x), axis(p.y), axis(p.z)};
     }
-    // The cell key every neighbour search shares (Morton), of the cell's
+    // The cell key every neighbour search shares, of the cell's
     // coordinates shifted to be non-negative.
     static std::uint64_t key(Cell c) {
-        return cell_key::mortonKey({std::uint32_t(c.x + kBias), std::uint32_t(c.y + kBias),
+        return cell_key::cellKey({std::uint32_t(c.x + kBias), std::uint32_t(c.y + kBias),
                                     std::uint32_t(c.z + kBias)});
     }
 

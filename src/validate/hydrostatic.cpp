@@ -144,7 +144,11 @@ CaseResult run(const Options& options) {
     CaseResult result;
     result.name = "hydrostatic";
     result.title = "Hydrostatic tank: pressure against rho0 g d, volume, rest";
-    const std::vector<float> radii = options.quick ? std::vector<float>{0.01f, 0.005f}
+    // Quick: the two finer tanks. The 10 mm tank (250 particles, five
+    // across) is too small for a convergence statement on its own: the
+    // order of its neighbour sums alone moved its pressure error from 1.5 %
+    // to 1.1 % and made 10 -> 5 mm look flat.
+    const std::vector<float> radii = options.quick ? std::vector<float>{0.005f, 0.0025f}
                                                    : std::vector<float>{0.01f, 0.005f, 0.0025f};
     std::vector<Tank> tanks;
     for (float r : radii) tanks.push_back(settle(r, options));

@@ -17,7 +17,7 @@ using cell_key::CellCoords;
 
 void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied) {
     std::vector<std::uint64_t> keys;
-    for (const CellCoords& c : occupied) keys.push_back(cell_key::mortonKey(c));
+    for (const CellCoords& c : occupied) keys.push_back(cell_key::cellKey(c));
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
     grid::SparseCells cells;
@@ -32,10 +32,10 @@ void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied)
         grid::blockNeighborhood(g, std::uint32_t(block), blocks);
         grid::CellNeighborhood nb;
         grid::cellNeighborhood(g, c, blocks, nb);
-        const CellCoords a = cell_key::mortonCoords(keys[c]);
+        const CellCoords a = cell_key::cellCoords(keys[c]);
         std::vector<std::uint32_t> expected;
         for (std::uint32_t k = 0; k < keys.size(); ++k) {
-            const CellCoords b = cell_key::mortonCoords(keys[k]);
+            const CellCoords b = cell_key::cellCoords(keys[k]);
             auto near = [](std::uint32_t u, std::uint32_t v) { return (u > v ? u - v : v - u) <= 1; };
             if (near(a.x, b.x) && near(a.y, b.y) && near(a.z, b.z)) expected.push_back(k);
         }
@@ -43,7 +43,7 @@ void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied)
         const std::vector<std::uint32_t> found(nb.cell, nb.cell + nb.count);
         ASSERT_EQ(found, expected) << "cell " << a.x << " " << a.y << " " << a.z;
         for (std::uint32_t k = 0; k < nb.count; ++k) {
-            const CellCoords b = cell_key::mortonCoords(keys[nb.cell[k]]);
+            const CellCoords b = cell_key::cellCoords(keys[nb.cell[k]]);
             ASSERT_EQ(nb.offset[k], grid::offsetCode(int(b.x) - int(a.x), int(b.y) - int(a.y),
                                                      int(b.z) - int(a.z)));
         }
@@ -52,9 +52,18 @@ void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied)
 
 TEST(SparseGrid, NeighbourCellsEqualBruteForceInAClump) {
     std::mt19937 rng(11);
-    std::uniform_int_distribution<std::uint32_t> u(30, 42);  // across several 4x4x4 blocks
+    std::uniform_int_distribution<std::uint32_t> u(30, 42);  // across a brick's y and z ends (32)
     std::vector<CellCoords> cells;
     for (int i = 0; i < 900; ++i) cells.push_back({u(rng), u(rng), u(rng)});
+    expectNeighborhoodsMatchBruteForce(cells);
+}
+
+TEST(SparseGrid, NeighbourCellsEqualBruteForceAcrossRowsAndBricks) {
+    std::mt19937 rng(13);
+    // x across a row's end (64), y and z across a brick's (32).
+    std::uniform_int_distribution<std::uint32_t> x(58, 70), yz(27, 37);
+    std::vector<CellCoords> cells;
+    for (int i = 0; i < 1500; ++i) cells.push_back({x(rng), yz(rng), yz(rng)});
     expectNeighborhoodsMatchBruteForce(cells);
 }
 

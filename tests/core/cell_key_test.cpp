@@ -59,9 +59,38 @@ TEST(CellKey, MortonGrowsWithEachCoordinateAndKeepsAlignedBlocksContiguous) {
         EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x + 1, c.y, c.z}));
         EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x, c.y + 1, c.z}));
         EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x, c.y, c.z + 1}));
-        // key >> 6 is the Morton key of the 4x4x4 block.
+        // Morton's key >> 6 is the Morton key of the 4x4x4 block.
         EXPECT_EQ(cell_key::mortonKey(c) >> 6, cell_key::mortonKey({c.x >> 2, c.y >> 2, c.z >> 2}));
     }
+}
+
+TEST(CellKey, BrickRowsRoundTripGrowWithEachCoordinateAndKeepRowsContiguous) {
+    std::mt19937 rng(5);
+    for (const CellCoords& c : sampleCoords(rng, 2000)) {
+        const std::uint64_t key = cell_key::cellKey(c);
+        ASSERT_EQ(cell_key::cellCoords(key), c);
+        ASSERT_NE(key, ~std::uint64_t{0});
+    }
+    std::uniform_int_distribution<std::uint32_t> any(0, kTop - 1);
+    for (int i = 0; i < 2000; ++i) {
+        const CellCoords c{any(rng), any(rng), any(rng)};
+        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x + 1, c.y, c.z}));
+        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x, c.y + 1, c.z}));
+        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x, c.y, c.z + 1}));
+        // A row of 64 cells along x is 64 consecutive keys.
+        const CellCoords rowStart{c.x & ~63u, c.y, c.z};
+        EXPECT_EQ(cell_key::cellKey(c), cell_key::cellKey(rowStart) + (c.x & 63u));
+        EXPECT_EQ(cell_key::cellKey(c) >> 6, cell_key::cellKey(rowStart) >> 6);
+    }
+    // Inside a brick, rows: x fastest, then z, then y; bricks in Morton order.
+    EXPECT_EQ(cell_key::cellKey({1, 0, 0}), 1u);
+    EXPECT_EQ(cell_key::cellKey({0, 0, 1}), 64u);
+    EXPECT_EQ(cell_key::cellKey({0, 1, 0}), 64u * 32u);
+    EXPECT_EQ(cell_key::cellKey({64, 0, 0}), std::uint64_t{1} << 16);
+    EXPECT_EQ(cell_key::cellKey({0, 32, 0}), std::uint64_t{2} << 16);
+    EXPECT_EQ(cell_key::cellKey({0, 0, 32}), std::uint64_t{4} << 16);
+    const std::uint32_t top = cell_key::kCellsPerAxis - 1;
+    EXPECT_EQ(cell_key::cellCoords(cell_key::cellKey({top, top, top})), (CellCoords{top, top, top}));
 }
 
 TEST(CellKey, HilbertRoundTripsAndStepsToAFaceNeighbour) {
@@ -83,8 +112,10 @@ TEST(CellKey, HilbertRoundTripsAndStepsToAFaceNeighbour) {
 TEST(CellKey, DomainFramesUseTheBitsTheirCellsNeed) {
     cell_key::CellFrame f;
     ASSERT_TRUE(cell_key::domainFrame({{0, 0, 0}, {1.6f, 1.0f, 0.4f}}, 0.02f, f));
-    EXPECT_EQ(f.maxCoordinate, 127u);  // 80 cells: keys of 3 x 7 bits
-    EXPECT_EQ(cell_key::keyBits(f.maxCoordinate + 1), 21);
+    EXPECT_EQ(f.maxCoordinate, 127u);  // 80 cells: 2 x 4 x 4 bricks
+    // The highest corner's key: brick (1, 3, 3) = Morton 0b111'111 after 16 bits.
+    EXPECT_EQ(cell_key::keyBits(f.maxCoordinate + 1), 22);
+    EXPECT_EQ(cell_key::keyBits(1), 0);
     // Beyond the key's range, or no extent: refused.
     EXPECT_FALSE(cell_key::domainFrame({{0, 0, 0}, {5e4f, 1, 1}}, 0.02f, f));
     EXPECT_FALSE(cell_key::domainFrame({{0, 0, 0}, {1, 0, 1}}, 0.02f, f));

@@ -1,7 +1,8 @@
 // Neighbour search on the sparse grid (cell size = kernel radius h).
 //
-// Each step: `sortByCell` computes every particle's cell key (a Morton code
-// of its cell, core/cell_key.hpp) and a stable radix sort by key, giving the
+// Each step: `sortByCell` computes every particle's cell key (bricks in
+// Morton order, rows of cells inside: core/cell_key.hpp) and a stable radix
+// sort by key, giving the
 // permutation that the caller applies with ParticleStore::reorder; the
 // occupied cells become a sorted list with start offsets (backend/sparse_grid.hpp).
 // After the reorder the particles of a cell are contiguous, and

@@ -991,7 +991,7 @@ class DeviceBackend final : public Backend {
     // Cell keys of x*, the stable sort by cell key (ties keep their order,
     // so the result does not depend on the thread count), and the sparse
     // grid (backend/sparse_grid.hpp): the occupied cells with their starts,
-    // each particle's cell, the 4x4x4 blocks with their masks and their 27
+    // each particle's cell, the 64-cell rows with their masks and their 27
     // neighbouring blocks. Nothing is sized by the domain.
     void sortByCell() {
         const auto n = static_cast<std::uint32_t>(p_.size());

@@ -42,9 +42,10 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t) +
              2 * sizeof(std::uint32_t);
     // The sparse grid (backend/sparse_grid.hpp), planned at a cell per four
-    // particles (water at rest has eight per cell; spray fewer) and a 4x4x4
-    // block per sixteen: per cell its key, start, block key and block; per
-    // block its key, mask, first cell and 27 neighbouring blocks.
+    // particles (water at rest has eight per cell; spray fewer) and a row of
+    // the key (up to 64 cells along x) per sixteen: per cell its key, start,
+    // row key and row; per row its key, mask, first cell and 27 neighbouring
+    // rows.
     bytes += (2 * sizeof(std::uint64_t) + 2 * sizeof(std::uint32_t)) / 4;
     bytes += (2 * sizeof(std::uint64_t) + sizeof(std::uint32_t) + 27 * sizeof(std::int32_t)) / 16;
     // The neighbour lists (device_kernels.hpp, ListNeighbors): an offset and

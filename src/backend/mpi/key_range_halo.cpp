@@ -10,7 +10,7 @@
 namespace pbf {
 namespace {
 
-constexpr int kBlockShift = 6;  // balance by blocks of 4x4x4 cells (key >> 6)
+constexpr int kBlockShift = cell_key::kRowBits;  // balance by the key's 64-cell rows (key >> 6)
 
 }  // namespace
 
@@ -72,19 +72,19 @@ const std::vector<int>& KeyRangeHalo::peersOf(std::uint64_t cellKey) {
     if (cellKey == peersKey_) return peers_;
     peersKey_ = cellKey;
     peers_.clear();
-    const cell_key::CellCoords c = cell_key::mortonCoords(cellKey);
+    const cell_key::CellCoords c = cell_key::cellCoords(cellKey);
     const std::uint32_t top = search_.frame().maxCoordinate;
     const auto down = [](std::uint32_t v) { return v > 0 ? v - 1 : v; };
     const auto up = [top](std::uint32_t v) { return v < top ? v + 1 : v; };
     // The key grows with each coordinate, so the neighbourhood's keys lie
     // between its corners': most cells are inside this rank's range.
-    if (cell_key::mortonKey({down(c.x), down(c.y), down(c.z)}) >= lo_ &&
-        cell_key::mortonKey({up(c.x), up(c.y), up(c.z)}) < hi_)
+    if (cell_key::cellKey({down(c.x), down(c.y), down(c.z)}) >= lo_ &&
+        cell_key::cellKey({up(c.x), up(c.y), up(c.z)}) < hi_)
         return peers_;
     for (std::uint32_t z = down(c.z); z <= up(c.z); ++z)
         for (std::uint32_t y = down(c.y); y <= up(c.y); ++y)
             for (std::uint32_t x = down(c.x); x <= up(c.x); ++x) {
-                const int r = ownerOfKey(cell_key::mortonKey({x, y, z}));
+                const int r = ownerOfKey(cell_key::cellKey({x, y, z}));
                 if (r == rank_) continue;
                 const auto at = std::lower_bound(peers_.begin(), peers_.end(), r);
                 if (at == peers_.end() || *at != r) peers_.insert(at, r);

@@ -5,12 +5,12 @@
 // after the sort, a range of particle indices. Rank r owns the cells whose
 // keys lie in [cut(r), cut(r + 1)): the particles whose x* (after prediction
 // and the swept collision, the positions the sort uses) lie there. Ranges
-// follow the Morton curve, so each is a compact region (no more ranks than
-// slabs along one axis). Every step:
+// follow the Morton curve over the key's bricks, so each is a compact region
+// (no more ranks than slabs along one axis). Every step:
 //
 //   distribute  when the ranks' particle counts differ by more than 5 %, the
-//               cuts move to balance them (a sparse histogram of 4x4x4 cell
-//               blocks gathered from all ranks); particles whose cell another
+//               cuts move to balance them (a sparse histogram of the key's
+//               64-cell rows gathered from all ranks); particles whose cell another
 //               rank owns go to it (migration, MPI_Alltoallv); the owned
 //               particles whose cell has a neighbour cell another rank owns
 //               go to that rank as ghosts (every neighbour of an owned

@@ -33,7 +33,7 @@ void NeighborGrid::build(std::span<const Vec3> positions) {
                  ++y)
                 for (std::int64_t x = std::max<std::int64_t>(0, cx - 1);
                      x <= std::min(top, cx + 1); ++x) {
-                    const std::uint64_t k = cell_key::mortonKey(
+                    const std::uint64_t k = cell_key::cellKey(
                         {std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)});
                     auto first = std::lower_bound(
                         sorted_.begin(), sorted_.end(), k,
