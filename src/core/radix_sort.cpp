@@ -13,8 +13,8 @@ constexpr std::uint64_t kDigits = std::uint64_t{1} << kDigitBits;
 
 }  // namespace
 
-void RadixSort::sort(const std::uint64_t* keys, std::size_t n, int bits,
-                     std::uint64_t* sortedKeys, std::uint32_t* perm) {
+void RadixSort::sort(std::uint64_t* keys, std::size_t n, int bits, std::uint32_t* perm,
+                     std::span<std::byte> scratch) {
     // The passes that move something: a digit that differs between keys
     // (which digits occur does not depend on the order, so the input tells).
     int active[64 / kDigitBits + 1];
@@ -26,28 +26,37 @@ void RadixSort::sort(const std::uint64_t* keys, std::size_t n, int bits,
             if ((differ >> shift) & (kDigits - 1)) active[passes++] = shift;
     }
     if (passes == 0) {
-        std::copy(keys, keys + n, sortedKeys);
         for (std::size_t i = 0; i < n; ++i) perm[i] = static_cast<std::uint32_t>(i);
         return;
     }
-    keys_.resize(n);
-    index_.resize(n);
+    std::uint64_t* keyScratch;
+    std::uint32_t* indexScratch;
+    if (scratch.size() >= scratchBytes(n) &&
+        reinterpret_cast<std::uintptr_t>(scratch.data()) % alignof(std::uint64_t) == 0) {
+        keyScratch = reinterpret_cast<std::uint64_t*>(scratch.data());
+        indexScratch = reinterpret_cast<std::uint32_t*>(scratch.data() + n * sizeof(std::uint64_t));
+    } else {
+        keys_.resize(n);
+        index_.resize(n);
+        keyScratch = keys_.data();
+        indexScratch = index_.data();
+    }
     // One chunk per thread (at least 64k keys each): each chunk's digits are
     // counted, then scattered to their places in chunk order (stable).
-    const std::size_t chunks = std::clamp<std::size_t>(
-        n / 65536, 1, static_cast<std::size_t>(std::max(1, threadCount())));
+    const std::size_t chunks =
+        std::clamp<std::size_t>(n / 65536, 1, static_cast<std::size_t>(std::max(1, threadCount())));
     const std::size_t chunkSize = (n + chunks - 1) / chunks;
     counts_.resize(chunks * kDigits);
 
-    // Alternate between the output and the scratch so that the last pass
-    // writes the output.
+    // Keys alternate between the input and the scratch (an odd number of
+    // passes ends with a copy back); indices between the scratch and perm,
+    // so that the last pass writes perm.
     const std::uint64_t* inKeys = keys;
     const std::uint32_t* inIndex = nullptr;  // the identity on the first pass
     for (int p = 0; p < passes; ++p) {
         const int shift = active[p];
-        const bool toOutput = (passes - p) % 2 == 1;
-        std::uint64_t* outKeys = toOutput ? sortedKeys : keys_.data();
-        std::uint32_t* outIndex = toOutput ? perm : index_.data();
+        std::uint64_t* outKeys = p % 2 == 0 ? keyScratch : keys;
+        std::uint32_t* outIndex = (passes - p) % 2 == 1 ? perm : indexScratch;
         std::fill(counts_.begin(), counts_.end(), 0u);
         parallelForBlocks(n, chunkSize, [&](std::size_t begin, std::size_t end) {
             std::uint32_t* count = counts_.data() + (begin / chunkSize) * kDigits;
@@ -71,6 +80,7 @@ void RadixSort::sort(const std::uint64_t* keys, std::size_t n, int bits,
         inKeys = outKeys;
         inIndex = outIndex;
     }
+    if (inKeys != keys) std::copy(inKeys, inKeys + n, keys);
 }
 
 }  // namespace pbf::detail

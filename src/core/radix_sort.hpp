@@ -6,19 +6,26 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace pbf::detail {
 
 class RadixSort {
   public:
-    // Sorts the n keys by their low `bits` bits (the rest must be zero),
-    // stably: writes the keys in increasing order to sortedKeys and, for
-    // each sorted place, the input index it came from to perm. Passes whose
-    // digit is the same for every key are skipped. Scratch is kept between
-    // calls (no allocation once n stops growing).
-    void sort(const std::uint64_t* keys, std::size_t n, int bits, std::uint64_t* sortedKeys,
-              std::uint32_t* perm);
+    // Sorts the n keys in place by their low `bits` bits (the rest must be
+    // zero), stably, and writes for each sorted place the input index it
+    // came from to perm. Passes whose digit is the same for every key are
+    // skipped. The passes alternate between the keys and a scratch of n keys
+    // and n indices: `scratch` (at least scratchBytes(n), 8-byte aligned,
+    // whose contents the sort overwrites) where the caller has such memory
+    // idle, else the sort's own, kept between calls (no allocation once n
+    // stops growing).
+    void sort(std::uint64_t* keys, std::size_t n, int bits, std::uint32_t* perm,
+              std::span<std::byte> scratch = {});
+    static constexpr std::size_t scratchBytes(std::size_t n) {
+        return n * (sizeof(std::uint64_t) + sizeof(std::uint32_t));
+    }
     std::size_t memoryBytes() const {
         return sizeof(std::uint64_t) * keys_.capacity() +
                sizeof(std::uint32_t) * (index_.capacity() + counts_.capacity());

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <numeric>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "core/radix_sort.hpp"
@@ -90,7 +91,8 @@ TEST(CellKey, BrickRowsRoundTripGrowWithEachCoordinateAndKeepRowsContiguous) {
     EXPECT_EQ(cell_key::cellKey({0, 32, 0}), std::uint64_t{2} << 16);
     EXPECT_EQ(cell_key::cellKey({0, 0, 32}), std::uint64_t{4} << 16);
     const std::uint32_t top = cell_key::kCellsPerAxis - 1;
-    EXPECT_EQ(cell_key::cellCoords(cell_key::cellKey({top, top, top})), (CellCoords{top, top, top}));
+    EXPECT_EQ(cell_key::cellCoords(cell_key::cellKey({top, top, top})),
+              (CellCoords{top, top, top}));
 }
 
 TEST(CellKey, HilbertRoundTripsAndStepsToAFaceNeighbour) {
@@ -127,8 +129,8 @@ TEST(CellKey, DomainFramesUseTheBitsTheirCellsNeed) {
 TEST(RadixSort, EqualsAStableSortForAnyWidthAndThreadCount) {
     std::mt19937_64 rng(4);
     for (int bits : {1, 5, 11, 12, 21, 33, 63}) {
-        for (std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{1000},
-                              std::size_t{200000}}) {
+        for (std::size_t n :
+             {std::size_t{0}, std::size_t{1}, std::size_t{1000}, std::size_t{200000}}) {
             // Few distinct keys: many ties, whose input order must be kept.
             const std::uint64_t mask = bits == 64 ? ~0ull : (std::uint64_t{1} << bits) - 1;
             std::vector<std::uint64_t> distinct(50);
@@ -139,12 +141,18 @@ TEST(RadixSort, EqualsAStableSortForAnyWidthAndThreadCount) {
             std::iota(expected.begin(), expected.end(), 0u);
             std::stable_sort(expected.begin(), expected.end(),
                              [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
-            detail::RadixSort sort;
-            std::vector<std::uint64_t> sorted(n);
-            std::vector<std::uint32_t> perm(n);
-            sort.sort(keys.data(), n, bits, sorted.data(), perm.data());
-            ASSERT_EQ(perm, expected) << bits << " bits, " << n << " keys";
-            for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(sorted[i], keys[perm[i]]);
+            // In place, with the sort's own scratch and with a lent one.
+            for (const bool lent : {false, true}) {
+                detail::RadixSort sort;
+                std::vector<std::uint64_t> sorted = keys;
+                std::vector<std::uint32_t> perm(n);
+                std::vector<std::uint64_t> scratch(n * 3 / 2 + 1);  // 12 bytes a key, aligned
+                sort.sort(
+                    sorted.data(), n, bits, perm.data(),
+                    lent ? std::as_writable_bytes(std::span(scratch)) : std::span<std::byte>{});
+                ASSERT_EQ(perm, expected) << bits << " bits, " << n << " keys";
+                for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(sorted[i], keys[perm[i]]);
+            }
         }
     }
 }

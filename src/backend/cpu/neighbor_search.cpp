@@ -22,18 +22,18 @@ NeighborSearch::NeighborSearch(const Aabb& domain, float radius, std::uint32_t c
     keyBits_ = cell_key::keyBits(frame_.maxCoordinate + 1);
 }
 
-void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm) {
+void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm,
+                                std::span<std::byte> scratch) {
     const std::size_t n = positions.size();
     keys_.resize(n);
-    sortedKeys_.resize(n);
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) keys_[i] = frame_.keyOf(positions.get(i));
     });
     // Stable: particles keep their relative order inside a cell, so the
     // result is the same whatever the thread count.
-    sort_.sort(keys_.data(), n, keyBits_, sortedKeys_.data(), perm.data());
-    cells_.build(sortedKeys_.data(), n);
+    sort_.sort(keys_.data(), n, keyBits_, perm.data(), scratch);
+    cells_.build(keys_.data(), n);
 }
 
 void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
@@ -140,7 +140,7 @@ std::size_t NeighborSearch::memoryBytes() const {
     for (const auto& cells : neighborhoods_)
         blockBytes += sizeof(grid::CellNeighborhood) * cells.capacity();
     return blockBytes + cells_.memoryBytes() + sort_.memoryBytes() +
-           sizeof(std::uint64_t) * (keys_.capacity() + sortedKeys_.capacity()) +
+           sizeof(std::uint64_t) * keys_.capacity() +
            sizeof(std::uint32_t) * (listStart_.capacity() + listCount_.capacity()) +
            sizeof(std::size_t) * blockNeighbors_.capacity();
 }

@@ -68,11 +68,14 @@ class NeighborSearch {
 
     // Stable radix sort of the particles by the cell key of `positions`.
     // Writes perm (new index -> old index); sizes its buffers to the particle
-    // count (no allocation once the count stops growing).
-    void sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm);
+    // count (no allocation once the count stops growing). `scratch`: memory
+    // the caller has idle during the sort, for its passes
+    // (detail::RadixSort::sort; the CPU solver lends its lambda buffer).
+    void sortByCell(const Float3Array& positions, std::vector<std::uint32_t>& perm,
+                    std::span<std::byte> scratch = {});
     // After sortByCell: the cell keys of the particles in sorted order, and
     // the occupied cells.
-    const std::vector<std::uint64_t>& sortedKeys() const { return sortedKeys_; }
+    const std::vector<std::uint64_t>& sortedKeys() const { return keys_; }
     std::size_t occupiedCellCount() const { return cells_.cellKey.size(); }
     grid::SparseGridView gridView() const { return cells_.view(frame_); }
 
@@ -104,8 +107,7 @@ class NeighborSearch {
     cell_key::CellFrame frame_;
     int keyBits_;  // key bits a cell of the domain can use (what the sort looks at)
 
-    std::vector<std::uint64_t> keys_;        // cell key of each particle, pre-sort order
-    std::vector<std::uint64_t> sortedKeys_;  // the same, sorted
+    std::vector<std::uint64_t> keys_;  // cell key of each particle, sorted in place
     detail::RadixSort sort_;
     grid::SparseCells cells_;
     // Per thread: the neighbourhoods of the cells of the block it works on.

@@ -88,7 +88,11 @@ void Solver::buildPlan() {
                                  s.predicted = packed_.data();
                                  s.withLambda = packedWithLambda_.data();
                                  s.vorticity = &vorticity_;
-                                 search_.sortByCell(s.particles.predicted, perm_);
+                                 // The lambda buffer is idle until the
+                                 // density pass rewrites it: the sort's scratch.
+                                 search_.sortByCell(
+                                     s.particles.predicted, perm_,
+                                     std::as_writable_bytes(std::span(packedWithLambda_)));
                              }});
     plan_.add(Part::Before,
               {Stage::Reorder, [this](SolverStep& s) { s.particles.reorder(perm_); }});
@@ -245,8 +249,8 @@ void Solver::buildPlan() {
                                 s.curvature = curvature_.data();
                                 forOwned(s, [&](std::size_t b, std::size_t e) {
                                     stages::computeColourGradient(s.context.constants, search_,
-                                                                  s.predicted, *s.colourGradient,
-                                                                  b, e);
+                                                                  s.predicted, *s.colourGradient, b,
+                                                                  e);
                                 });
                             },
                             curvatureOn});
@@ -300,8 +304,7 @@ std::size_t Solver::memoryBytes() const {
     return search_.memoryBytes() + sizeof(std::uint32_t) * perm_.capacity() +
            sizeof(PackedPoint) * (packed_.capacity() + packedWithLambda_.capacity()) +
            sizeof(float) * 3 *
-               (vorticity_.x.capacity() + colourGradient_.x.capacity() +
-                bandNormal_.x.capacity()) +
+               (vorticity_.x.capacity() + colourGradient_.x.capacity() + bandNormal_.x.capacity()) +
            sizeof(std::int64_t) * blockCompression_.capacity() +
            sizeof(float) * curvature_.capacity();
 }
