@@ -45,8 +45,9 @@ std::string validateBlocks(const WorldDef& def) {
     for (std::size_t i = 0; i < def.fluidBlocks.size(); ++i) {
         const FluidBlock& block = def.fluidBlocks[i];
         const std::string field = fmt::format("fluid_blocks[{}]", i);
-        if (!finite(block.box.min) || !finite(block.box.max) || !positiveBox(block.box))
-            return field + ".max: must be greater than min on every axis";
+        if (!finite(block.box.min)) return field + ".min: must be finite";
+        if (!finite(block.box.max)) return field + ".max: must be finite";
+        if (!positiveBox(block.box)) return field + ".max: must be greater than min on every axis";
         if (!finite(block.velocity)) return field + ".velocity: must be finite";
         const Aabb& d = sim.domain;
         if (!d.contains(block.box.min) || !d.contains(block.box.max))

@@ -132,6 +132,9 @@ TEST(Scene, InvertedDomain) {
     expectError(
         R"({"domain": {"min": [0,0,0], "max": [1,-1,1]}, "particle_radius": 0.02, "fluid_blocks": []})",
         {"domain.max", "greater than min"});
+    expectError(
+        R"({"domain": {"min": [0,0,0], "max": [1,0,1]}, "particle_radius": 0.02, "fluid_blocks": []})",
+        {"domain.max", "greater than min"});
 }
 TEST(Scene, OverlappingBlocks) {
     const std::string json =

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/io/scene.hpp"
@@ -88,6 +89,11 @@ TEST(World, InvalidDefinitionsNameTheField) {
     pbf::WorldDef fps = tank();
     fps.fps = 0.0f;
     EXPECT_EQ(pbf::validate(fps), "output.fps: must be in (0, 10000]");
+    // NaN in a fluid block (the Python module passes floats as given).
+    pbf::WorldDef nan = tank();
+    nan.fluidBlocks[0].box.min.y = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(pbf::validate(nan), "fluid_blocks[0].min: must be finite");
+    EXPECT_THROW(pbf::World{nan}, pbf::SceneError);
 }
 
 // The iteration count is observed in the solver's work (the passes it ran,
