@@ -9,10 +9,11 @@
 // coordinates' bits interleaved), and inside a brick the cells in rows, x
 // fastest, then z, then y. A particle's 26 neighbour cells are then 9 runs
 // of 3 cells contiguous in memory, and the rows the solver's passes read
-// move through memory as steadily as a dense grid's (Morton's order of
-// single cells scatters them into about 12 runs and breaks the hardware's
-// prefetch: 32 % slower passes at 1M particles, bench/cell_key_bench.cpp
-// and docs/performance.md). Three properties the searches rely on:
+// move through memory as steadily as a dense grid's (Morton's and
+// Hilbert's orders of single cells scatter them far apart and defeat the
+// hardware's prefetch: 20-27 % slower passes at 1M particles,
+// bench/cell_key_bench.cpp and docs/performance.md). Three properties the
+// searches rely on:
 //  * 64 consecutive cells along x whose first x is a multiple of 64 are 64
 //    consecutive keys, and key >> 6 is their row's own code: the sparse
 //    grid looks cells up by such rows (backend/sparse_grid.hpp);
