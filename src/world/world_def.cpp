@@ -8,15 +8,29 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace pbf {
 namespace {
 
-// Particles along one axis of a block: lattice cells of edge `spacing` that fit.
-// Capped so that absurd sizes stay representable and are refused later.
-long long latticeCount(float extent, float spacing) {
-    return static_cast<long long>(std::min(1e12, std::floor(double(extent) / spacing + 1e-4)));
+// Particles along one axis of a block from lo to hi: lattice cells of edge
+// `spacing` that fit. The block's corners are floats: far from the origin
+// they are rounded by up to half their spacing (31 um at 1 km), so a block
+// written as 0.3 m wide may be stored a few ulps short of it and would lose
+// a row; the rounding of both corners is allowed for. Capped so that absurd
+// sizes stay representable and are refused later.
+long long latticeCount(float lo, float hi, float spacing) {
+    const auto ulp = [](float v) {
+        const float a = std::fabs(v);
+        return double(std::nextafter(a, std::numeric_limits<float>::infinity()) - a);
+    };
+    const double slack = 1e-4 + (ulp(lo) + ulp(hi)) / spacing;
+    return static_cast<long long>(
+        std::min(1e12, std::floor((double(hi) - double(lo)) / spacing + slack)));
+}
+long long latticeCount(const Aabb& box, int axis, float spacing) {
+    return latticeCount(box.min[axis], box.max[axis], spacing);
 }
 
 bool overlaps(const Aabb& a, const Aabb& b) {
@@ -52,9 +66,8 @@ std::string validateBlocks(const WorldDef& def) {
         const Aabb& d = sim.domain;
         if (!d.contains(block.box.min) || !d.contains(block.box.max))
             return field + ".min: the block must lie inside the domain";
-        const Vec3 e = block.box.extent();
-        if (latticeCount(e.x, spacing) < 1 || latticeCount(e.y, spacing) < 1 ||
-            latticeCount(e.z, spacing) < 1)
+        if (latticeCount(block.box, 0, spacing) < 1 || latticeCount(block.box, 1, spacing) < 1 ||
+            latticeCount(block.box, 2, spacing) < 1)
             return field +
                    ".max: the block is empty: every side must be at least one particle "
                    "spacing (2 r = " +
@@ -186,9 +199,8 @@ std::size_t countParticles(const WorldDef& def) {
     const float spacing = def.simulation.particleSpacing();
     double total = 0.0;
     for (const FluidBlock& b : def.fluidBlocks) {
-        const Vec3 e = b.box.extent();
-        total += double(latticeCount(e.x, spacing)) * double(latticeCount(e.y, spacing)) *
-                 double(latticeCount(e.z, spacing));
+        total += double(latticeCount(b.box, 0, spacing)) * double(latticeCount(b.box, 1, spacing)) *
+                 double(latticeCount(b.box, 2, spacing));
     }
     if (total > 4e9)
         throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
@@ -247,9 +259,8 @@ ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::
     store.reserve(countParticles(def));
     std::size_t rejected = 0;
     for (const FluidBlock& b : def.fluidBlocks) {
-        const Vec3 e = b.box.extent();
-        const long long nx = latticeCount(e.x, spacing), ny = latticeCount(e.y, spacing),
-                        nz = latticeCount(e.z, spacing);
+        const long long nx = latticeCount(b.box, 0, spacing), ny = latticeCount(b.box, 1, spacing),
+                        nz = latticeCount(b.box, 2, spacing);
         for (long long k = 0; k < nz; ++k)
             for (long long j = 0; j < ny; ++j)
                 for (long long i = 0; i < nx; ++i) {
