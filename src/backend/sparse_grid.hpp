@@ -106,16 +106,19 @@ PBF_HD inline void blockNeighborhood(const SparseGridView& g, std::uint32_t b, s
             }
 }
 
-// An occupied cell's occupied neighbours (itself included), in increasing
-// cell index: the order their particles lie in memory.
+// An occupied cell's occupied neighbours (itself included) as runs, in
+// increasing index order: the order their particles lie in memory. A run is
+// what one row of the key holds of the cell's neighbourhood: up to three
+// consecutive cells, at x - 1, x, x + 1, whose particles are one range,
+// [lo, a) at x - 1, [a, b) at x, [b, hi) at x + 1 (any part may be
+// empty). Rows at y and z plus and minus one give nine runs; a cell at a
+// row's end adds the rows before or after along x (a run of one cell each).
 struct CellNeighborhood {
     cell_key::CellCoords centre;  // the cell's own coordinates
-    std::uint32_t count;
-    std::uint32_t cell[27];
-    std::uint32_t begin[27], end[27];  // the particles of each: [begin, end)
-    std::uint8_t offset[27];           // offsetCode of each
+    std::uint32_t count;          // runs
+    std::uint32_t lo[18], a[18], b[18], hi[18];
+    std::uint8_t row[18];  // the run's row: (dy + 1) + 3 (dz + 1)
 };
-
 
 PBF_HD inline int lowestBit(std::uint64_t v) {
 #if defined(__CUDA_ARCH__)
@@ -169,26 +172,36 @@ PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
     }
     for (int b = 0; b < touched; ++b) {
         const std::uint64_t mask = g.blockMask[blockIndex[b]];
+        const std::uint64_t bits = wanted[b];
         const int code = blockCode[b];
-        const int dy = (code / 3) % 3 - 1, dz = code / 9 - 1;
-        const int rowStart = ((code % 3) - 1) * int(kLast + 1) - int(p);  // dx of the row's cell 0
-        for (std::uint64_t bits = wanted[b]; bits != 0; bits &= bits - 1) {
-            const int sub = lowestBit(bits);
-            const std::uint64_t below = mask & ((std::uint64_t{1} << sub) - 1u);
-            const std::uint32_t cell =
-                g.blockFirstCell[blockIndex[b]] + std::uint32_t(popcount64(below));
-            out.cell[out.count] = cell;
-            out.begin[out.count] = g.cellStart[cell];
-            out.end[out.count] = g.cellStart[cell + 1];
-            out.offset[out.count++] = static_cast<std::uint8_t>(offsetCode(rowStart + sub, dy, dz));
-        }
+        // The run's cells are consecutive in index: the first at the
+        // popcount below the lowest wanted bit, one more per wanted bit.
+        const int first = lowestBit(bits);
+        const std::uint32_t c0 = g.blockFirstCell[blockIndex[b]] +
+                                 std::uint32_t(popcount64(mask & ((std::uint64_t{1} << first) - 1u)));
+        const std::uint32_t cells = std::uint32_t(popcount64(bits));
+        const std::uint32_t lo = g.cellStart[c0], hi = g.cellStart[c0 + cells];
+        // Which parts it has: in its own row, the cell before x when that
+        // bit is set, after x likewise; a row before (after) along x holds
+        // only the part before (after).
+        const int step = code % 3;
+        const bool hasBefore = step == 0 || (step == 1 && p > 0 && ((bits >> (p - 1)) & 1u));
+        const bool hasAfter = step == 2 || (step == 1 && p < kLast && ((bits >> (p + 1)) & 1u));
+        const std::uint32_t k = out.count++;
+        out.lo[k] = lo;
+        out.hi[k] = hi;
+        out.a[k] = step == 2 ? lo : (hasBefore ? g.cellStart[c0 + 1] : lo);
+        out.b[k] = step == 0 ? hi : (hasAfter ? g.cellStart[c0 + cells - 1] : hi);
+        out.row[k] = static_cast<std::uint8_t>(code / 3);
     }
 }
 
 // Calls visit(first, last) for the particle ranges of the cells of `nb` (the
 // neighbourhood of the cell holding p) that come within the kernel radius of
-// p, in increasing index order, ranges of consecutive cells merged. Cells
-// farther than h from p hold no neighbour and are skipped. Distances are
+// p, in increasing index order, consecutive ranges merged: per run, its row
+// when the row comes within reach, trimmed at either end by the cell there
+// when that cell does not (the dense grid's walk). Cells farther than h
+// from p hold no neighbour and are skipped. Distances are
 // measured in cell units from the same float arithmetic that chose p's cell,
 // with a margin that grows with the coordinates (a float's rounding error
 // grows with its magnitude): nothing closer than h is ever dropped, far from
@@ -232,8 +245,12 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
                           << (sx + 3 * sy + 9 * sz);
     std::uint32_t first = 0, last = 0;  // the range being merged
     for (std::uint32_t k = 0; k < nb.count; ++k) {
-        if (!((within >> nb.offset[k]) & 1u)) continue;
-        const std::uint32_t begin = nb.begin[k], end = nb.end[k];
+        const int row = nb.row[k];
+        const int before = 3 * row, own = before + 1, after = before + 2;  // offset codes
+        if (!((within >> own) & 1u)) continue;  // the row is out of reach
+        const std::uint32_t begin = ((within >> before) & 1u) ? nb.lo[k] : nb.a[k];
+        const std::uint32_t end = ((within >> after) & 1u) ? nb.hi[k] : nb.b[k];
+        if (begin >= end) continue;
         if (begin == last && last != first) {
             last = end;
             continue;

@@ -39,14 +39,27 @@ void expectNeighborhoodsMatchBruteForce(const std::vector<CellCoords>& occupied)
             auto near = [](std::uint32_t u, std::uint32_t v) { return (u > v ? u - v : v - u) <= 1; };
             if (near(a.x, b.x) && near(a.y, b.y) && near(a.z, b.z)) expected.push_back(k);
         }
-        // All of them, in increasing index order (the order the lists keep).
-        const std::vector<std::uint32_t> found(nb.cell, nb.cell + nb.count);
-        ASSERT_EQ(found, expected) << "cell " << a.x << " " << a.y << " " << a.z;
+        // All of them, in increasing index order (the order the lists keep):
+        // one particle per cell, so the runs' particle ranges are cell
+        // indices. Each run is one row (y and z) with its parts at x - 1, x,
+        // x + 1.
+        std::vector<std::uint32_t> found;
         for (std::uint32_t k = 0; k < nb.count; ++k) {
-            const CellCoords b = cell_key::cellCoords(keys[nb.cell[k]]);
-            ASSERT_EQ(nb.offset[k], grid::offsetCode(int(b.x) - int(a.x), int(b.y) - int(a.y),
-                                                     int(b.z) - int(a.z)));
+            ASSERT_LE(nb.lo[k], nb.a[k]);
+            ASSERT_LE(nb.a[k], nb.b[k]);
+            ASSERT_LE(nb.b[k], nb.hi[k]);
+            ASSERT_LT(nb.lo[k], nb.hi[k]);  // no empty run
+            const int dy = nb.row[k] % 3 - 1, dz = nb.row[k] / 3 - 1;
+            for (std::uint32_t j = nb.lo[k]; j < nb.hi[k]; ++j) {
+                const CellCoords b = cell_key::cellCoords(keys[j]);
+                const int dx = j < nb.a[k] ? -1 : (j < nb.b[k] ? 0 : 1);
+                ASSERT_EQ(int(b.x) - int(a.x), dx) << "run " << k;
+                ASSERT_EQ(int(b.y) - int(a.y), dy) << "run " << k;
+                ASSERT_EQ(int(b.z) - int(a.z), dz) << "run " << k;
+                found.push_back(j);
+            }
         }
+        ASSERT_EQ(found, expected) << "cell " << a.x << " " << a.y << " " << a.z;
     }
 }
 

@@ -78,8 +78,8 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
             grid::CellNeighborhood& nb = cells.emplace_back();
             grid::cellNeighborhood(grid, c, blocks, nb);
             for (std::uint32_t k = 0; k < nb.count; ++k) {
-                lowest = std::min(lowest, nb.begin[k]);
-                highest = std::max(highest, nb.end[k]);
+                lowest = std::min(lowest, nb.lo[k]);
+                highest = std::max(highest, nb.hi[k]);
             }
         }
         block.wide = highest - lowest > compactSpan_;
