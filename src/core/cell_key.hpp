@@ -177,12 +177,15 @@ struct CellFrame {
     }
 
     // Coordinate of `value` along an axis whose cells start at `start`. For
-    // t > 0 truncation is floor (no libm call on the device).
+    // t > 0 truncation is floor (no libm call on the device). Branch-free
+    // selects (NaN and t <= 0 give 0) and a signed conversion (t < 2^21), so
+    // that the loop over all particles vectorises.
     PBF_HD std::uint32_t coordinate(float value, float start) const {
-        const float t = (value - start) * inverseCell;
-        if (!(t > 0.0f)) return 0;
-        if (t >= float(maxCoordinate)) return maxCoordinate;
-        return static_cast<std::uint32_t>(t);
+        float t = (value - start) * inverseCell;
+        t = t > 0.0f ? t : 0.0f;
+        const float top = float(maxCoordinate);  // exact: below 2^21
+        t = t < top ? t : top;
+        return static_cast<std::uint32_t>(static_cast<std::int32_t>(t));
     }
     PBF_HD CellCoords coords(const Vec3& p) const {
         return {coordinate(p.x, origin.x), coordinate(p.y, origin.y), coordinate(p.z, origin.z)};

@@ -28,7 +28,10 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
     keys_.resize(n);
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) keys_[i] = frame_.keyOf(positions.get(i));
+        const cell_key::CellFrame frame = frame_;
+        const float *x = positions.x.data(), *y = positions.y.data(), *z = positions.z.data();
+        std::uint64_t* keys = keys_.data();
+        for (std::size_t i = begin; i < end; ++i) keys[i] = frame.keyOf({x[i], y[i], z[i]});
     });
     // Stable: particles keep their relative order inside a cell, so the
     // result is the same whatever the thread count.
