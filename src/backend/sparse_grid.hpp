@@ -133,9 +133,9 @@ PBF_HD inline int lowestBit(std::uint64_t v) {
 // the cells at x - 1, x, x + 1 of the 9 rows at y and z plus and minus one
 // (three bits of each row's mask), and where the cell ends its row, the
 // first or last cell of the rows before or after: at most 18 rows, each one
-// mask and'ed with the row's occupancy. Rows in increasing index order and,
-// inside one, cells in increasing x give the cells in increasing index
-// order, with no sort and no per-cell search.
+// mask and'ed with the row's occupancy, each one run. Rows in increasing
+// index order give the runs in increasing index order, with no per-cell
+// search.
 PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
                                     const std::int32_t blocks[27], CellNeighborhood& out) {
     const std::uint64_t key = g.cellKey[c];
