@@ -59,15 +59,6 @@ struct SparseGridView {
         }
         return lo < blockCount && blockKey[lo] == key ? static_cast<std::int32_t>(lo) : -1;
     }
-
-    // Index of the occupied cell `sub` (key & 63) of block b (-1: none).
-    PBF_HD std::int32_t cellInBlock(std::int32_t b, std::uint32_t sub) const {
-        if (b < 0) return -1;
-        const std::uint64_t mask = blockMask[b];
-        if (!((mask >> sub) & 1u)) return -1;
-        const std::uint64_t below = mask & ((std::uint64_t{1} << sub) - 1u);
-        return static_cast<std::int32_t>(blockFirstCell[b] + std::uint32_t(popcount64(below)));
-    }
 };
 
 // Offset code of a neighbour: (dx + 1) + 3 (dy + 1) + 9 (dz + 1); 13 is the cell itself.
@@ -209,12 +200,11 @@ PBF_HD inline void cellNeighborhood(const SparseGridView& g, std::uint32_t c,
 // builds the caller is a SIMD kernel compiled for a wider instruction set.
 template <class Visit>
 PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
-                                                  const CellNeighborhood& nb, std::uint32_t cell,
-                                                  const Vec3& p, Visit&& visit) {
+                                                  const CellNeighborhood& nb, const Vec3& p,
+                                                  Visit&& visit) {
     // Where p lies in its cell along each axis, in [0, 1] (clamped: for
     // points beyond the key's range this underestimates the distance to the
     // neighbours, so nothing closer than h is dropped).
-    (void)cell;
     const std::uint32_t cc[3] = {nb.centre.x, nb.centre.y, nb.centre.z};
     // gap2[a][s]: the squared distance from p to the neighbour cells of step
     // s - 1 along axis a (0 for its own column).

@@ -42,6 +42,15 @@ std::vector<CellCoords> sampleCoords(std::mt19937& rng, int count) {
     return cs;
 }
 
+// The key of the cell one step further along each axis is larger (what the
+// distributed split's two-corner test relies on).
+template <class Key>
+void expectGrowsWithEachCoordinate(Key key, const CellCoords& c) {
+    EXPECT_LT(key(c), key({c.x + 1, c.y, c.z}));
+    EXPECT_LT(key(c), key({c.x, c.y + 1, c.z}));
+    EXPECT_LT(key(c), key({c.x, c.y, c.z + 1}));
+}
+
 TEST(CellKey, MortonInterleavesTheBitsAndRoundTrips) {
     std::mt19937 rng(1);
     for (const CellCoords& c : sampleCoords(rng, 2000)) {
@@ -57,9 +66,7 @@ TEST(CellKey, MortonGrowsWithEachCoordinateAndKeepsAlignedBlocksContiguous) {
     std::uniform_int_distribution<std::uint32_t> any(0, kTop - 1);
     for (int i = 0; i < 2000; ++i) {
         const CellCoords c{any(rng), any(rng), any(rng)};
-        EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x + 1, c.y, c.z}));
-        EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x, c.y + 1, c.z}));
-        EXPECT_LT(cell_key::mortonKey(c), cell_key::mortonKey({c.x, c.y, c.z + 1}));
+        expectGrowsWithEachCoordinate(cell_key::mortonKey, c);
         // Morton's key >> 6 is the Morton key of the 4x4x4 block.
         EXPECT_EQ(cell_key::mortonKey(c) >> 6, cell_key::mortonKey({c.x >> 2, c.y >> 2, c.z >> 2}));
     }
@@ -75,9 +82,7 @@ TEST(CellKey, BrickRowsRoundTripGrowWithEachCoordinateAndKeepRowsContiguous) {
     std::uniform_int_distribution<std::uint32_t> any(0, kTop - 1);
     for (int i = 0; i < 2000; ++i) {
         const CellCoords c{any(rng), any(rng), any(rng)};
-        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x + 1, c.y, c.z}));
-        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x, c.y + 1, c.z}));
-        EXPECT_LT(cell_key::cellKey(c), cell_key::cellKey({c.x, c.y, c.z + 1}));
+        expectGrowsWithEachCoordinate(cell_key::cellKey, c);
         // A row of 64 cells along x is 64 consecutive keys.
         const CellCoords rowStart{c.x & ~63u, c.y, c.z};
         EXPECT_EQ(cell_key::cellKey(c), cell_key::cellKey(rowStart) + (c.x & 63u));

@@ -105,7 +105,7 @@ std::size_t CollectBlockLists(const ListJob& job, std::size_t begin, std::size_t
         std::uint32_t rangeFirst[27], rangeLast[27];
         int ranges = 0;
         std::size_t candidates = 0;
-        forEachStencilRange(job.grid, job.cells[cell - job.firstCell], cell,
+        forEachStencilRange(job.grid, job.cells[cell - job.firstCell],
                             {job.px[i], job.py[i], job.pz[i]},
                             [&](std::uint32_t first, std::uint32_t last) {
                                 rangeFirst[ranges] = first;

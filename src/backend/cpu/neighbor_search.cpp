@@ -113,7 +113,7 @@ void NeighborSearch::buildNeighborLists(const Float3Array& positions) {
                 cells_.cellStart.begin() - 1);
             std::size_t candidates = 0;
             grid::forEachStencilRange(
-                grid, cells[cell - firstCell], cell, positions.get(i),
+                grid, cells[cell - firstCell], positions.get(i),
                 [&](std::uint32_t first, std::uint32_t last) { candidates += last - first; });
             const std::size_t needed = units * (used + candidates + simd::kMaxLanes);
             const std::size_t grown = needed + needed / 16 + 1024;

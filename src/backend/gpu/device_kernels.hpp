@@ -83,7 +83,7 @@ struct StencilNeighbors {
         grid::CellNeighborhood nb;
         grid::cellNeighborhood(grid.view, cell, grid.blockNeighbors + 27 * grid.cellBlock[cell],
                                nb);
-        grid::forEachStencilRange(grid.view, nb, cell, xi,
+        grid::forEachStencilRange(grid.view, nb, xi,
                                   [&](std::uint32_t first, std::uint32_t last) {
                                       for (std::uint32_t j = first; j < last; ++j) {
                                           if (j == i) continue;
