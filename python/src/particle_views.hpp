@@ -14,6 +14,6 @@ namespace pbf::python {
 pybind11::array positionsView(const ParticleArrays& arrays);   // (N, 3) float32, writable
 pybind11::array velocitiesView(const ParticleArrays& arrays);  // (N, 3) float32, writable
 pybind11::array densitiesView(const ParticleArrays& arrays);   // (N,) float32, read-only
-pybind11::array idsView(const ParticleArrays& arrays);         // (N,) uint32, read-only
+pybind11::array idsView(const ParticleArrays& arrays);         // (N,) uint64, read-only
 
 }  // namespace pbf::python

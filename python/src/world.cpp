@@ -228,7 +228,7 @@ void bindWorldClass(py::module_& m) {
             [](WorldHandle& h) {
                 return h.locked([](World& w) { return idsView(w.arraysById()); });
             },
-            "(N,) uint32 read-only view: ids[k] == k")
+            "(N,) uint64 read-only view: ids[k] == k")
         .def(
             "add_particles",
             [](WorldHandle& h, const py::handle& positions, const py::handle& velocities) {

@@ -16,7 +16,7 @@ def test_views_share_the_worlds_buffers(small_world):
     assert x.shape == (n, 3) and x.dtype == np.float32
     assert v.shape == (n, 3) and v.dtype == np.float32
     assert rho.shape == (n,) and rho.dtype == np.float32
-    assert ids.shape == (n,) and ids.dtype == np.uint32
+    assert ids.shape == (n,) and ids.dtype == np.uint64
     assert np.array_equal(ids, np.arange(n))
     assert np.shares_memory(x, w.positions)  # a second access gives the same memory
     before = x.copy()

@@ -11,33 +11,6 @@
 
 namespace pbf {
 
-std::string_view backendName(BackendKind kind) {
-    switch (kind) {
-        case BackendKind::Cpu:
-            return "cpu";
-        case BackendKind::Reference:
-            return "reference";
-        case BackendKind::Mpi:
-            return "mpi";
-        case BackendKind::Cuda:
-            return "cuda";
-        case BackendKind::CudaOnCpu:
-            return "cuda-on-cpu";
-    }
-    return "unknown";
-}
-
-std::vector<BackendKind> deviceKinds() {
-    return {BackendKind::Cpu, BackendKind::Reference, BackendKind::Cuda, BackendKind::CudaOnCpu};
-}
-
-BackendKind parseBackendKind(std::string_view name) {
-    for (BackendKind kind : deviceKinds())
-        if (name == backendName(kind)) return kind;
-    throw std::invalid_argument("device: must be cpu, reference, cuda or cuda-on-cpu, got \"" +
-                                std::string(name) + "\"");
-}
-
 DeviceInfo deviceInfo(BackendKind kind) {
     DeviceInfo info;
     info.kind = kind;

@@ -8,6 +8,7 @@ void HostBackend::append(std::span<const Vec3> positions, std::span<const Vec3> 
                          float density) {
     if (positions.size() != velocities.size())
         throw std::invalid_argument("Backend::append: positions and velocities differ in length");
+    checkParticlesPerProcess(kind(), store_.size(), positions.size());
     for (std::size_t k = 0; k < positions.size(); ++k)
         store_.add(positions[k], velocities[k], density);
 }

@@ -25,7 +25,10 @@ class HostBackend : public Backend {
     const ParticleStore* hostState() const override { return &store_; }
     ParticleStore* mutableHostState() override { return &store_; }
     void download(ParticleStore& out) const override;
-    void upload(ParticleStore state) override { store_ = std::move(state); }
+    void upload(ParticleStore state) override {
+        checkParticlesPerProcess(kind(), 0, state.size());
+        store_ = std::move(state);
+    }
 
   protected:
     ParticleStore store_;

@@ -29,7 +29,7 @@ PBF_HD inline bool badParticle(const Vec3& x, const Vec3& v, double limit2) {
 double squaredSpeedLimit(double speedLimit);
 
 // The report of bad particle `index` (memory order) with id `id`.
-BadParticle describeBadParticle(std::size_t index, std::uint32_t id, const Vec3& x, const Vec3& v,
+BadParticle describeBadParticle(std::size_t index, std::uint64_t id, const Vec3& x, const Vec3& v,
                                 double speedLimit);
 
 }  // namespace pbf::detail

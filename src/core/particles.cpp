@@ -1,7 +1,10 @@
 #include "pbf/core/particles.hpp"
 
 #include <algorithm>
+#include <cstddef>
+#include <cstdint>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 
 #include "core/parallel.hpp"
@@ -23,6 +26,18 @@ void permute(std::vector<T>& values, std::span<const std::uint32_t> perm, std::v
         for (std::size_t k = begin; k < end; ++k) scratch[k] = values[perm[k]];
     });
     values.swap(scratch);
+}
+
+// The same through lent memory: gathered into it, copied back (one more
+// pass over the field, instead of a scratch array of its width per particle).
+template <class T>
+void permute(std::vector<T>& values, std::span<const std::uint32_t> perm, T* scratch) {
+    detail::parallelFor(values.size(), [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) scratch[k] = values[perm[k]];
+    });
+    detail::parallelFor(values.size(), [&](std::size_t begin, std::size_t end) {
+        std::copy(scratch + begin, scratch + end, values.begin() + std::ptrdiff_t(begin));
+    });
 }
 
 static_assert(std::size(kFields) <= 32, "keptOptionalFields is a 32-bit mask");
@@ -104,15 +119,22 @@ void ParticleStore::copyParticle(std::size_t to, const ParticleStore& from, std:
 #undef PBF_COPY_FIELD
 }
 
-void ParticleStore::reorder(std::span<const std::uint32_t> perm) {
+void ParticleStore::reorder(std::span<const std::uint32_t> perm, std::span<std::byte> scratch) {
     forEachField([&](const ParticleFieldInfo&, auto& a) {
         for (auto* c : componentsOf(a)) {
             if (c->size() != perm.size()) continue;  // an optional field that is off
             using T = typename std::remove_reference_t<decltype(*c)>::value_type;
-            if constexpr (std::is_same_v<T, float>)
+            if constexpr (std::is_same_v<T, float>) {
                 permute(*c, perm, scratchFloat_);
-            else
-                permute(*c, perm, scratchIndex_);
+            } else {
+                static_assert(alignof(T) <= alignof(std::uint64_t));
+                const bool lent = scratch.size() >= sizeof(T) * perm.size() &&
+                                  reinterpret_cast<std::uintptr_t>(scratch.data()) % alignof(T) == 0;
+                if (!lent) scratchWide_.resize((sizeof(T) * perm.size() + 7) / 8);
+                permute(*c, perm,
+                        lent ? reinterpret_cast<T*>(scratch.data())
+                             : reinterpret_cast<T*>(scratchWide_.data()));
+            }
         }
     });
 }
@@ -137,7 +159,7 @@ std::vector<std::uint32_t> ParticleStore::orderById() const {
 
 std::size_t ParticleStore::memoryBytes() const {
     std::size_t bytes =
-        sizeof(float) * scratchFloat_.capacity() + sizeof(std::uint32_t) * scratchIndex_.capacity();
+        sizeof(float) * scratchFloat_.capacity() + sizeof(std::uint64_t) * scratchWide_.capacity();
     forEachField([&](const ParticleFieldInfo&, const auto& a) {
         for (const auto* c : componentsOf(a))
             bytes +=

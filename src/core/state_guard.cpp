@@ -39,7 +39,7 @@ double detail::squaredSpeedLimit(double speedLimit) {
     return speedLimit > 0.0 ? speedLimit * speedLimit : std::numeric_limits<double>::infinity();
 }
 
-BadParticle detail::describeBadParticle(std::size_t index, std::uint32_t id, const Vec3& x,
+BadParticle detail::describeBadParticle(std::size_t index, std::uint64_t id, const Vec3& x,
                                         const Vec3& v, double speedLimit) {
     BadParticle bad;
     bad.index = index;

@@ -39,7 +39,7 @@ std::string serialize(const Checkpoint& c) {
     w.value<std::int32_t>(c.frame);
     w.value(c.time);
     const ParticleStore& p = c.particles;
-    w.value<std::uint32_t>(p.nextId());
+    w.value<std::uint64_t>(p.nextId());
     writeParticleArrays(w, p);
     w.array(c.emitters);
     w.array(c.bodies);
@@ -64,7 +64,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     c.frame = r.value<std::int32_t>("frame");
     c.time = r.value<double>("time");
     ParticleStore& p = c.particles;
-    const auto nextId = r.value<std::uint32_t>("next id");
+    const auto nextId = r.value<std::uint64_t>("next id");
     readParticleArrays(r, p);
     r.array(c.emitters, "emitters");
     r.array(c.bodies, "rigid bodies");
@@ -84,7 +84,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     // or foreign program; still, never hand an inconsistent store to the solver.
     if (c.frame < 0 || !std::isfinite(c.time) || c.time < 0.0)
         fail(name, "corrupt checkpoint: bad frame or time");
-    std::vector<std::uint32_t> ids = p.id;
+    std::vector<std::uint64_t> ids = p.id;
     std::sort(ids.begin(), ids.end());
     if (std::adjacent_find(ids.begin(), ids.end()) != ids.end() ||
         (!ids.empty() && ids.back() >= nextId))
@@ -167,6 +167,12 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
     std::memcpy(&version, header + 8, 4);
     std::memcpy(&size, header + 16, 8);
     std::memcpy(&hash, header + 24, 8);
+    if (version < kCheckpointFormatVersion)
+        fail(name, fmt::format("checkpoint format version {} was written by an older pbf (this "
+                               "pbf reads version {}, with 64-bit particle ids since "
+                               "version 5); its run cannot be resumed: start it again without "
+                               "--resume",
+                               version, kCheckpointFormatVersion));
     if (version != kCheckpointFormatVersion)
         fail(name, fmt::format(
                        "checkpoint format version {} is not supported (this pbf reads version {})",

@@ -2,8 +2,10 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "pbf/io/io.hpp"
 
@@ -47,6 +49,16 @@ void writeVertexPly(const std::filesystem::path& path, std::string_view comment,
     });
 }
 
+std::uint32_t plyId(std::uint64_t id, const std::filesystem::path& path) {
+    if (id > std::numeric_limits<std::uint32_t>::max())
+        fail(path.string(),
+             "particle id " + std::to_string(id) +
+                 " does not fit the PLY files' 32-bit id: this run created more than 2^32 "
+                 "particles; write its frames as VTK (output.vtk) or USD (output.usd), which keep "
+                 "64-bit ids, and set output.particles to false");
+    return static_cast<std::uint32_t>(id);
+}
+
 void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p) {
     static constexpr PlyProperty kProperties[] = {
         {"float", "x"},  {"float", "y"},  {"float", "z"},       {"float", "vx"},
@@ -58,7 +70,8 @@ void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p
             const float f[7] = {p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i],
                                 p.velocity.y[i], p.velocity.z[i], p.density[i]};
             std::memcpy(record, f, sizeof f);
-            std::memcpy(record + sizeof f, &p.id[i], 4);
+            const std::uint32_t id = plyId(p.id[i], path);
+            std::memcpy(record + sizeof f, &id, 4);
         });
 }
 
@@ -145,7 +158,11 @@ ParticleFrame readParticlesPly(std::istream& in, const std::string& path) {
         frame.position[i] = {floatAt(ix), floatAt(iy), floatAt(iz)};
         if (!frame.velocity.empty()) frame.velocity[i] = {floatAt(ivx), floatAt(ivy), floatAt(ivz)};
         if (!frame.density.empty()) frame.density[i] = floatAt(idens);
-        if (!frame.id.empty()) std::memcpy(&frame.id[i], row.data() + 4 * iid, 4);
+        if (!frame.id.empty()) {
+            std::uint32_t id;
+            std::memcpy(&id, row.data() + 4 * iid, 4);
+            frame.id[i] = id;
+        }
     }
     return frame;
 }

@@ -20,7 +20,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "the VTK files are written as LittleEndian from memory");
 
-enum class Scalar { Float32, UInt8, UInt32, Int32, Int64 };
+enum class Scalar { Float32, UInt8, UInt32, Int32, Int64, UInt64 };
 
 const char* typeName(Scalar type) {
     switch (type) {
@@ -34,6 +34,8 @@ const char* typeName(Scalar type) {
             return "Int32";
         case Scalar::Int64:
             return "Int64";
+        case Scalar::UInt64:
+            return "UInt64";
     }
     return "";
 }
@@ -47,6 +49,7 @@ std::size_t typeSize(Scalar type) {
         case Scalar::Int32:
             return 4;
         case Scalar::Int64:
+        case Scalar::UInt64:
             return 8;
     }
     return 0;
@@ -183,7 +186,7 @@ void writeParticlesVtu(const std::filesystem::path& path, const ParticleStore& p
                            store(out, k, p.density[order[first + k]]);
                    }});
     const std::string id = block.add(
-        {"id", Scalar::UInt32, 1, n, [&](std::size_t first, std::size_t count, std::byte* out) {
+        {"id", Scalar::UInt64, 1, n, [&](std::size_t first, std::size_t count, std::byte* out) {
              for (std::size_t k = 0; k < count; ++k) store(out, k, p.id[order[first + k]]);
          }});
     const std::string points = block.add(vectorArray("Points", p.position, order));

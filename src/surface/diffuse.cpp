@@ -100,10 +100,10 @@ void DiffuseSimulator::advance(int frame, const ParticleFrame& from, const Parti
     // particle emitted during the frame takes its `to` state throughout).
     std::vector<std::size_t> previous(n, SIZE_MAX);
     for (std::size_t i = 0, k = 0; i < n; ++i) {
-        const std::uint32_t id = to.id.empty() ? std::uint32_t(i) : to.id[i];
-        while (k < from.position.size() && (from.id.empty() ? std::uint32_t(k) : from.id[k]) < id)
+        const std::uint64_t id = to.id.empty() ? std::uint64_t(i) : to.id[i];
+        while (k < from.position.size() && (from.id.empty() ? std::uint64_t(k) : from.id[k]) < id)
             ++k;
-        if (k < from.position.size() && (from.id.empty() ? std::uint32_t(k) : from.id[k]) == id)
+        if (k < from.position.size() && (from.id.empty() ? std::uint64_t(k) : from.id[k]) == id)
             previous[i] = k;
     }
     std::vector<Vec3> x(n), v(n), normal(n);
@@ -180,7 +180,7 @@ void DiffuseSimulator::advance(int frame, const ParticleFrame& from, const Parti
                     (p.trappedAirRate * clampPotential(trapped, p.trappedAirMin, p.trappedAirMax) +
                      p.waveCrestRate * clampPotential(crest, p.waveCrestMin, p.waveCrestMax)) *
                     dt;
-                const std::uint32_t id = to.id.empty() ? std::uint32_t(i) : to.id[i];
+                const std::uint64_t id = to.id.empty() ? std::uint64_t(i) : to.id[i];
                 Random rng{mix(p.seed ^
                                mix((std::uint64_t(frame) << 40) ^ (std::uint64_t(s) << 32) ^ id))};
                 const double whole = std::floor(expected);
@@ -250,7 +250,7 @@ void DiffuseSimulator::advance(int frame, const ParticleFrame& from, const Parti
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 if (emitted[i + 1] == emitted[i]) continue;
-                const std::uint32_t id = to.id.empty() ? std::uint32_t(i) : to.id[i];
+                const std::uint64_t id = to.id.empty() ? std::uint64_t(i) : to.id[i];
                 Random rng{mix(p.seed ^
                                mix((std::uint64_t(frame) << 40) ^ (std::uint64_t(s) << 32) ^ id)) ^
                            0x5bd1e995ull};
@@ -273,11 +273,11 @@ void DiffuseSimulator::advance(int frame, const ParticleFrame& from, const Parti
                     d.velocity[out] =
                         v[i] + (0.1f * float(speed) * radius / p.particleRadius) * radial;
                     d.lifetime[out] = p.lifetimeMin + rng.next() * (p.lifetimeMax - p.lifetimeMin);
-                    d.id[out] = nextId_ + std::uint32_t(k);
+                    d.id[out] = nextId_ + k;
                 }
             }
         });
-        nextId_ += std::uint32_t(added);
+        nextId_ += added;
 
         // Classify by fluid neighbours (section 5).
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, d.size()), [&](const auto& range) {
@@ -308,7 +308,8 @@ void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& 
                        std::memcpy(record, f, sizeof f);
                        record[24] = static_cast<char>(static_cast<std::uint8_t>(d.type[k]));
                        std::memcpy(record + 25, &d.lifetime[k], 4);
-                       std::memcpy(record + 29, &d.id[k], 4);
+                       const std::uint32_t id = plyId(d.id[k], path);
+                       std::memcpy(record + 29, &id, 4);
                    });
 }
 
@@ -371,7 +372,9 @@ DiffuseParticles readDiffusePly(const std::filesystem::path& path) {
                  std::to_string(type));
         d.type[k] = DiffuseType(type);
         std::memcpy(&d.lifetime[k], record.data() + 25, 4);
-        std::memcpy(&d.id[k], record.data() + 29, 4);
+        std::uint32_t id;
+        std::memcpy(&id, record.data() + 29, 4);
+        d.id[k] = id;
     }
     return d;
 }

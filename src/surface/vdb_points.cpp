@@ -48,10 +48,13 @@ void writePointsVdb(const std::filesystem::path& path, const ParticleFrame& fram
     std::vector<std::int32_t> ids;
     for (std::size_t i = 0; i < n; ++i) positions[i] = toVdb(frame.position[i]);
     for (const Vec3& v : frame.velocity) velocities.push_back(toVdb(v));
-    for (std::uint32_t id : frame.id) {
+    for (std::uint64_t id : frame.id) {
         // Houdini and Blender expect a signed 32-bit "id".
-        if (id > std::uint32_t(std::numeric_limits<std::int32_t>::max()))
-            fail(path, "particle id exceeds int32");
+        if (id > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
+            fail(path, "particle id " + std::to_string(id) +
+                           " does not fit OpenVDB points' 32-bit signed id (what Houdini and "
+                           "Blender read); write VTK (output.vtk) or USD (output.usd), which "
+                           "keep 64-bit ids");
         ids.push_back(static_cast<std::int32_t>(id));
     }
     for (const auto& [name, values] : extra.floats)
@@ -170,7 +173,7 @@ ParticleFrame readParticlesVdb(const std::filesystem::path& path) {
                 if (id) {
                     const std::int32_t value = id->get(*it);
                     if (value < 0) fail(path, "negative particle id " + std::to_string(value));
-                    frame.id.push_back(static_cast<std::uint32_t>(value));
+                    frame.id.push_back(static_cast<std::uint64_t>(value));
                 }
             }
         }

@@ -250,12 +250,12 @@ void World::refreshArrays() {
         a.position = std::make_shared<std::vector<float>>(3 * n);
         a.velocity = std::make_shared<std::vector<float>>(3 * n);
         a.density = std::make_shared<std::vector<float>>(n);
-        a.id = std::make_shared<std::vector<std::uint32_t>>(n);
+        a.id = std::make_shared<std::vector<std::uint64_t>>(n);
     }
     float* x = a.position->data();
     float* v = a.velocity->data();
     for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t k = p.id[i];
+        const std::uint64_t k = p.id[i];
         if (k >= n)
             throw std::logic_error("particle ids are not 0 .. count - 1 (id " + std::to_string(k) +
                                    ")");
@@ -284,7 +284,7 @@ void World::applyHostEdits() {
     const float* x = arrays_->position->data();
     const float* v = arrays_->velocity->data();
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const std::uint32_t k = p.id[i];
+        const std::uint64_t k = p.id[i];
         p.position.set(i, {x[3 * k], x[3 * k + 1], x[3 * k + 2]});
         p.predicted.set(i, p.position.get(i));
         p.velocity.set(i, {v[3 * k], v[3 * k + 1], v[3 * k + 2]});

@@ -94,6 +94,22 @@ TEST(ParticleFields, ReorderPermutesEveryField) {
     for (std::size_t k = 0; k < n; ++k) EXPECT_TRUE(holdsParticle(p, k, perm[k])) << k;
 }
 
+// The same through memory the caller lends for the integer fields (the CPU
+// solver lends its idle position records), and with a loan too small (the
+// store's own scratch).
+TEST(ParticleFields, ReorderThroughLentScratchPermutesEveryField) {
+    const std::size_t n = 7;
+    const std::vector<std::uint32_t> perm = {3, 0, 6, 1, 5, 2, 4};
+    std::vector<std::uint64_t> lent(n, ~std::uint64_t{0});
+    ParticleStore p = filledStore(n);
+    p.reorder(perm, std::as_writable_bytes(std::span(lent)));
+    for (std::size_t k = 0; k < n; ++k) EXPECT_TRUE(holdsParticle(p, k, perm[k])) << k;
+    EXPECT_NE(lent[0], ~std::uint64_t{0});  // the loan was used
+    ParticleStore q = filledStore(n);
+    q.reorder(perm, std::as_writable_bytes(std::span(lent).first(n / 2)));
+    for (std::size_t k = 0; k < n; ++k) EXPECT_TRUE(holdsParticle(q, k, perm[k])) << k;
+}
+
 TEST(ParticleFields, KeepRangeResizeAndCopyCoverEveryField) {
     ParticleStore p = filledStore(6);
     p.keepRange(2, 5);
@@ -127,8 +143,8 @@ TEST(ParticleFields, CheckpointArraysCarryEveryField) {
         restored.predicted = saved.predicted;
         EXPECT_TRUE(holdsParticle(restored, i, i)) << i;
     }
-    // 4 bytes per component of every saved or optional field.
-    std::size_t bytes = 0;
+    // 4 bytes per component of every saved or optional field, 8 for the id.
+    std::size_t bytes = 4;
     for (const auto& f : ParticleStore::fields())
         if (f.kind != pbf::ParticleFieldKind::Working) bytes += 4 * std::size_t(f.components);
     EXPECT_EQ(pbf::detail::savedBytesPerParticle(), bytes);
@@ -200,7 +216,7 @@ TEST(ParticleFields, DeviceArraysCarryEveryField) {
     ASSERT_EQ(back.size(), n + 3);
     std::vector<bool> seen(n + 3, false);
     for (std::size_t k = 0; k < back.size(); ++k) {
-        const std::uint32_t i = back.id[k];
+        const std::uint64_t i = back.id[k];
         ASSERT_LT(i, n + 3);
         seen[i] = true;
         // The fields the step does not write followed their particle;

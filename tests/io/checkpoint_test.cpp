@@ -128,6 +128,25 @@ TEST(Checkpoint, SimulationStateRoundTripsThroughAFile) {
     fs::remove_all(dir);
 }
 
+// Ids and the next id are 64-bit in the file: a run that created more than
+// 2^32 particles resumes with the same ids.
+TEST(Checkpoint, IdsPastThirtyTwoBitsRoundTrip) {
+    pbf::Checkpoint saved;
+    saved.pbfVersion = "test";
+    saved.particles.setNextId((std::uint64_t{1} << 32) - 2);
+    for (int k = 0; k < 5; ++k) saved.particles.add({float(k), 0, 0}, {}, 1000.0f);
+    const fs::path dir = freshTestDirectory("wide_ids");
+    pbf::writeCheckpoint(dir / "c.pbfck", saved);
+    const pbf::Checkpoint loaded = pbf::readCheckpoint(dir / "c.pbfck");
+    ASSERT_EQ(loaded.particles.size(), 5u);
+    for (std::size_t k = 0; k < 5; ++k) {
+        EXPECT_EQ(loaded.particles.id[k], (std::uint64_t{1} << 32) - 2 + k);
+        EXPECT_EQ(loaded.particles.position.x[k], float(k));
+    }
+    EXPECT_EQ(loaded.particles.nextId(), (std::uint64_t{1} << 32) + 3);
+    fs::remove_all(dir);
+}
+
 TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     const pbf::test::ThreadCountScope oneThread(1);
     const pbf::Scene scene = smallDamBreak();
@@ -152,6 +171,15 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     const std::string foreign = expectIoError([&] { pbf::readCheckpoint(dir / "foreign.pbfck"); });
     EXPECT_NE(foreign.find("foreign.pbfck"), std::string::npos);
     EXPECT_NE(foreign.find("not a pbf checkpoint"), std::string::npos);
+
+    std::string older = good;
+    older[8] = 4;  // the format before 64-bit ids
+    std::ofstream(dir / "older.pbfck", std::ios::binary) << older;
+    const std::string olderError =
+        expectIoError([&] { pbf::readCheckpoint(dir / "older.pbfck"); });
+    EXPECT_NE(olderError.find("older.pbfck"), std::string::npos);
+    EXPECT_NE(olderError.find("format version 4 was written by an older pbf"), std::string::npos);
+    EXPECT_NE(olderError.find("without --resume"), std::string::npos);
 
     std::string future = good;
     future[8] = 99;  // format version

@@ -89,6 +89,30 @@ std::size_t filesIn(const fs::path& dir) {
 // written, the path still holds the old content whole, and afterwards the
 // new one whole. (A writer that opens the path itself and writes in place
 // shows a truncated file here.)
+// Ids are 64-bit; PLY has no 64-bit integer, so its `uint id` holds them
+// while they fit and a frame with a larger one is refused by name, the file
+// not written.
+TEST(Ply, AnIdPastThirtyTwoBitsIsRefusedNamingTheFormatsThatKeepIt) {
+    pbf::ParticleStore p;
+    p.setNextId((std::uint64_t{1} << 32) - 1);
+    p.add({0, 0, 0}, {}, 1000.0f);  // id 2^32 - 1: fits
+    const fs::path dir = freshDirectory("wide_id_ply");
+    pbf::writeParticlesPly(dir / "fits.ply", p);
+    EXPECT_EQ(pbf::readParticlesPly(dir / "fits.ply").id.at(0), 0xFFFFFFFFu);
+    p.add({1, 0, 0}, {}, 1000.0f);  // id 2^32
+    try {
+        pbf::writeParticlesPly(dir / "f.ply", p);
+        ADD_FAILURE() << "no IoError";
+    } catch (const pbf::IoError& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("f.ply"), std::string::npos) << message;
+        EXPECT_NE(message.find("particle id 4294967296"), std::string::npos) << message;
+        EXPECT_NE(message.find("output.vtk"), std::string::npos) << message;
+    }
+    EXPECT_FALSE(fs::exists(dir / "f.ply"));
+    fs::remove_all(dir);
+}
+
 TEST(AtomicWrite, ThePathHoldsTheOldFileWholeUntilTheNewOneIsComplete) {
     const fs::path dir = freshDirectory("atomic");
     const fs::path path = dir / "a.txt";

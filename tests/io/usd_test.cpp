@@ -64,7 +64,7 @@ TEST(Usd, PointsClipKeepsEveryFloatsBits) {
         {std::numeric_limits<float>::max(), 1e-7f, -2.5f},
         {std::numeric_limits<float>::denorm_min(), 0.7f, 123.456f}};
     const std::vector<Vec3> velocities = {{1, 2, 3}, {-1e-30f, 0, 0}, {0.2f, 0.3f, 0.4f}};
-    const std::vector<std::uint32_t> ids = {7, 4294967295u, 123456};
+    const std::vector<std::uint64_t> ids = {7, 4294967301u, 123456};  // one past 32 bits
     const std::vector<float> density = {1000.25f, 999.999f, 1e3f};
     usd::writePointsClip(dir / "00012.usda", "particles", 12,
                          {positions, velocities, ids, density, {}, 0.02f});
@@ -81,7 +81,7 @@ TEST(Usd, PointsClipKeepsEveryFloatsBits) {
             << p[i];
     }
     EXPECT_EQ(sampleNumbers(text, "int64[] ids"),
-              (std::vector<std::string>{"7", "4294967295", "123456"}));
+              (std::vector<std::string>{"7", "4294967301", "123456"}));
     const std::vector<std::string> d = sampleNumbers(text, "float[] primvars:density");
     ASSERT_EQ(d.size(), 3u);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(std::strtof(d[i].c_str(), nullptr), density[i]);

@@ -85,6 +85,9 @@ std::map<std::string, ParsedArray> parseAppended(const std::string& file) {
 
 TEST(Vtk, ParticlesAreVertexCellsWithEveryAttributeInIdOrder) {
     pbf::ParticleStore p;
+    // Ids from 2^32 - 50: the file keeps all 64 bits.
+    constexpr std::uint64_t kFirstId = (std::uint64_t{1} << 32) - 50;
+    p.setNextId(kFirstId);
     for (int k = 0; k < 100; ++k) {
         const float f = float(k);
         p.add({0.01f * f, 0.5f, -0.25f * f}, {f, -1.0f, 2.0f}, 1000.0f + f);
@@ -108,12 +111,12 @@ TEST(Vtk, ParticlesAreVertexCellsWithEveryAttributeInIdOrder) {
     ASSERT_EQ(arrays.size(), 7u);
     EXPECT_EQ(arrays.at("velocity").components, 3);
     EXPECT_EQ(arrays.at("Points").components, 3);
-    EXPECT_EQ(arrays.at("id").type, "UInt32");
+    EXPECT_EQ(arrays.at("id").type, "UInt64");
     EXPECT_EQ(arrays.at("connectivity").type, "Int32");
     const auto x = arrays.at("Points").values<float>();
     const auto v = arrays.at("velocity").values<float>();
     const auto rho = arrays.at("density").values<float>();
-    const auto id = arrays.at("id").values<std::uint32_t>();
+    const auto id = arrays.at("id").values<std::uint64_t>();
     const auto connectivity = arrays.at("connectivity").values<std::int32_t>();
     const auto offsets = arrays.at("offsets").values<std::int32_t>();
     const auto types = arrays.at("types").values<std::uint8_t>();
@@ -121,7 +124,7 @@ TEST(Vtk, ParticlesAreVertexCellsWithEveryAttributeInIdOrder) {
     ASSERT_EQ(types.size(), 100u);
     for (std::uint32_t k = 0; k < 100; ++k) {
         const float f = float(k);
-        EXPECT_EQ(id[k], k);
+        EXPECT_EQ(id[k], kFirstId + k);
         EXPECT_EQ(x[3 * k], 0.01f * f);
         EXPECT_EQ(x[3 * k + 2], -0.25f * f);
         EXPECT_EQ(v[3 * k], f);

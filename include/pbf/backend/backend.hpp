@@ -88,6 +88,14 @@ enum class BackendKind {
 };
 // "cpu", "reference", "mpi", "cuda", "cuda-on-cpu".
 std::string_view backendName(BackendKind kind);
+
+// The most particles one process of a backend holds: the solvers index a
+// process's particles with 32 bits (the sort's permutation, the neighbour
+// lists, the GPU's kernels). Ids and counts over all processes are 64-bit.
+inline constexpr std::size_t kMaxParticlesPerProcess = 0xFFFFFFFFu;
+// Throws std::length_error naming the backend when a process of `kind`
+// holding `held` particles would receive `added` more than that.
+void checkParticlesPerProcess(BackendKind kind, std::size_t held, std::size_t added);
 // Parses a device name as `--device` takes it (cpu, reference, cuda,
 // cuda-on-cpu); throws std::invalid_argument listing the choices.
 BackendKind parseBackendKind(std::string_view name);

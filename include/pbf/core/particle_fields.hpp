@@ -13,7 +13,7 @@
 // X(name, type, components, unit, kind, description)
 //   name        the member of ParticleStore (a Float3Array for 3 components,
 //               a std::vector<type> for 1)
-//   type        the component type: float or std::uint32_t
+//   type        the component type: float or an unsigned integer (id: 64-bit)
 //   components  1 or 3
 //   unit        SI unit ("" for none)
 //   kind        Saved     state of the simulation: checkpointed, moved with the
@@ -35,7 +35,7 @@
       "predicted position x*, the solver's working positions (equal to x between steps)")   \
     X(velocity, float, 3, "m/s", Saved, "velocity v")                                       \
     X(density, float, 1, "kg/m^3", Saved, "last density estimate")                          \
-    X(id, std::uint32_t, 1, "", Saved, "stable identity, 0-based")                          \
+    X(id, std::uint64_t, 1, "", Saved, "stable identity, 0-based")                          \
     X(solveAcceleration, float, 3, "m/s^2", Optional,                                       \
       "the last substep's pressure acceleration (its position correction per dt^2), which " \
       "warm-starts the next one (solver.warm_start; empty while it is off)")                \

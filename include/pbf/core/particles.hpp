@@ -80,7 +80,7 @@ class ParticleStore {
     //   Float3Array predicted;         x*, metres (solver working positions)
     //   Float3Array velocity;          v, metres per second
     //   std::vector<float> density;    last density estimate, kg/m^3
-    //   std::vector<std::uint32_t> id; stable identity, 0-based
+    //   std::vector<std::uint64_t> id; stable identity, 0-based
     //   Float3Array solveAcceleration; warm start (empty while it is off)
 #define PBF_STORE_MEMBER(name, type, components, unit, kind, description) \
     ParticleFieldArray<type, components> name;
@@ -131,8 +131,10 @@ class ParticleStore {
     // field that `from` does not keep becomes zero).
     void copyParticle(std::size_t to, const ParticleStore& from, std::size_t i);
     // Permutes every array: new index k takes the particle at old index perm[k].
-    // `perm` must be a permutation of [0, size()).
-    void reorder(std::span<const std::uint32_t> perm);
+    // `perm` must be a permutation of [0, size()). `scratch`: memory the
+    // caller lends for the 64-bit fields (the ids) while it is idle, at
+    // least 8 bytes per particle; without it the store keeps its own.
+    void reorder(std::span<const std::uint32_t> perm, std::span<std::byte> scratch = {});
     // Keeps the particles [begin, end) (in order) and drops the others.
     void keepRange(std::size_t begin, std::size_t end);
     // Bytes held by the particle arrays and the reorder scratch.
@@ -140,20 +142,20 @@ class ParticleStore {
     // Indices of the particles sorted by id (for writing files in a stable order).
     std::vector<std::uint32_t> orderById() const;
     // The id the next add() gives (saved and restored by checkpoints).
-    std::uint32_t nextId() const {
+    std::uint64_t nextId() const {
         return nextId_;
     }
-    void setNextId(std::uint32_t next) {
+    void setNextId(std::uint64_t next) {
         nextId_ = next;
     }
 
   private:
     bool holdsValues(const ParticleFieldInfo& field) const;
 
-    std::uint32_t nextId_ = 0;
+    std::uint64_t nextId_ = 0;
     std::uint32_t optionalOn_ = 0;
     std::vector<float> scratchFloat_;
-    std::vector<std::uint32_t> scratchIndex_;
+    std::vector<std::uint64_t> scratchWide_;  // the ids' scratch where reorder is lent none
 };
 
 }  // namespace pbf

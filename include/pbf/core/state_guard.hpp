@@ -22,7 +22,7 @@ namespace pbf {
 
 struct BadParticle {
     std::size_t index = 0;  // memory index (changes every step)
-    std::uint32_t id = 0;   // stable id, as in the PLY files
+    std::uint64_t id = 0;   // stable id, as in the PLY files
     Vec3 position;
     Vec3 velocity;
     std::string problem;  // "velocity is NaN", "speed 812 m/s exceeds the limit of 97 m/s", ...

@@ -38,8 +38,9 @@ namespace pbf {
 
 class World;
 
-// 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start
-inline constexpr std::uint32_t kCheckpointFormatVersion = 4;
+// 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start;
+// 5: 64-bit particle ids and next id (older versions are refused by name)
+inline constexpr std::uint32_t kCheckpointFormatVersion = 5;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and

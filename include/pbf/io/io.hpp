@@ -40,7 +40,7 @@ struct ParticleFrame {
     std::vector<Vec3> position;
     std::vector<Vec3> velocity;
     std::vector<float> density;
-    std::vector<std::uint32_t> id;
+    std::vector<std::uint64_t> id;
 };
 
 // One property of a PLY vertex: its type ("float", "uint" or "uchar") and name.
@@ -57,6 +57,12 @@ struct PlyProperty {
 void writeVertexPly(const std::filesystem::path& path, std::string_view comment,
                     std::span<const PlyProperty> properties, std::size_t count,
                     const std::function<void(std::size_t k, char* record)>& fill);
+
+// A particle id as the PLY files' `uint id` property (32 bits; PLY has no
+// 64-bit integer type). Ids are 64-bit; one that does not fit (a run that
+// created more than 2^32 particles) throws IoError naming `path` and the
+// outputs that keep the whole id (VTK, USD, checkpoints).
+std::uint32_t plyId(std::uint64_t id, const std::filesystem::path& path);
 
 // Binary little-endian PLY, one vertex per particle with the properties
 // x y z vx vy vz density (float) and id (uint), in id order. Blender,

@@ -34,7 +34,7 @@ namespace pbf::usd {
 struct PointsFrame {
     std::span<const Vec3> positions;     // m
     std::span<const Vec3> velocities;    // m/s; empty or one per point
-    std::span<const std::uint32_t> ids;  // empty or one per point
+    std::span<const std::uint64_t> ids;  // empty or one per point
     std::span<const float> density;      // kg/m^3; empty or one per point
     std::span<const std::uint8_t> kind;  // white water's type; empty or one per point
     float width = 0.0f;                  // diameter of every point, m

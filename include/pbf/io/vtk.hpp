@@ -32,7 +32,7 @@ namespace pbf::vtk {
 // Particles in id order as an UnstructuredGrid with one vertex cell per
 // particle (ParaView's default Surface view draws vertex cells as points)
 // and the point arrays velocity (Float32 x3), density (Float32) and id
-// (UInt32); `time` (seconds) goes into the field array TimeValue, which
+// (UInt64); `time` (seconds) goes into the field array TimeValue, which
 // ParaView reads when the .vtu files are opened as a series without the .pvd.
 // Atomic (writeFileAtomically); throws IoError naming the file.
 void writeParticlesVtu(const std::filesystem::path& path, const ParticleStore& particles,

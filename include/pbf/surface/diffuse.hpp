@@ -69,7 +69,7 @@ struct DiffuseParticles {
     std::vector<Vec3> velocity;  // m/s
     std::vector<DiffuseType> type;
     std::vector<float> lifetime;    // s left
-    std::vector<std::uint32_t> id;  // in order of creation
+    std::vector<std::uint64_t> id;  // in order of creation
     std::size_t size() const { return position.size(); }
     std::size_t count(DiffuseType t) const;
 };
@@ -89,7 +89,7 @@ class DiffuseSimulator {
   private:
     DiffuseParams params_;
     DiffuseParticles particles_;
-    std::uint32_t nextId_ = 0;
+    std::uint64_t nextId_ = 0;
     double secondsPerSubstep_ = 0.0;
 };
 

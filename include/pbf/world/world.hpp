@@ -96,7 +96,7 @@ struct ParticleArrays {
     std::shared_ptr<std::vector<float>> position;    // 3 per particle, m
     std::shared_ptr<std::vector<float>> velocity;    // 3 per particle, m/s
     std::shared_ptr<std::vector<float>> density;     // kg/m^3 (read only)
-    std::shared_ptr<std::vector<std::uint32_t>> id;  // id[k] == k (read only)
+    std::shared_ptr<std::vector<std::uint64_t>> id;  // id[k] == k (read only)
 };
 
 struct WorldOptions {

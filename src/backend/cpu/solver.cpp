@@ -94,8 +94,12 @@ void Solver::buildPlan() {
                                      s.particles.predicted, perm_,
                                      std::as_writable_bytes(std::span(packedWithLambda_)));
                              }});
-    plan_.add(Part::Before,
-              {Stage::Reorder, [this](SolverStep& s) { s.particles.reorder(perm_); }});
+    // The position records are idle until PackPositions fills them: the
+    // scratch of the 64-bit ids' permutation.
+    plan_.add(Part::Before, {Stage::Reorder, [this](SolverStep& s) {
+                                 s.particles.reorder(perm_,
+                                                     std::as_writable_bytes(std::span(packed_)));
+                             }});
     plan_.add(Part::Before, {Stage::NeighborLists, [this](SolverStep& s) {
                                  search_.buildNeighborLists(s.particles.predicted);
                              }});

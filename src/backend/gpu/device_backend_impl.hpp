@@ -174,7 +174,7 @@ struct DeviceParticles {
     DeviceFieldArray<type, components> name;
     PBF_PARTICLE_FIELDS(PBF_DEVICE_MEMBER)
 #undef PBF_DEVICE_MEMBER
-    std::uint32_t nextId = 0;
+    std::uint64_t nextId = 0;
     std::uint32_t optionalOn = 0;  // ParticleStore::keptOptionalFields()
     std::size_t size() const {
         return id.size();
@@ -403,6 +403,7 @@ class DeviceBackend final : public Backend {
             throw std::invalid_argument(
                 "Backend::append: positions and velocities differ in length");
         if (positions.empty()) return;
+        checkParticlesPerProcess(kind(), p_.size(), positions.size());
         ThreadScope threads;
         // The new particles as ParticleStore::add makes them (zeros in the
         // optional fields that are on), then copied behind the others.
@@ -433,6 +434,7 @@ class DeviceBackend final : public Backend {
     }
 
     void upload(ParticleStore state) override {
+        checkParticlesPerProcess(kind(), 0, state.size());
         ThreadScope threads;
         const std::size_t n = state.size();
         p_.optionalOn = state.keptOptionalFields();
@@ -453,8 +455,6 @@ class DeviceBackend final : public Backend {
     // reactions from their per-block sums.
     void step(const SolverContext& context, float dt) override {
         ThreadScope threads;
-        if (p_.size() > std::numeric_limits<std::uint32_t>::max())
-            throw std::length_error("the GPU backend indexes particles with 32 bits");
         DeviceStep s(context, dt);
         s.solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
         prepare(context.params, s.solids, context.solids);
@@ -1077,11 +1077,18 @@ class DeviceBackend final : public Backend {
                 thrust::gather(thrust::device, order_.begin(), order_.end(), array.begin(),
                                gatherFloat_.begin());
                 array.swap(gatherFloat_);
-            } else {
-                gatherIndex_.resize(n);
+            } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+                // The ids: gathered into the sort's second key buffer, idle
+                // until the next sort (which takes the old ids' memory back).
+                keysAlt_.resize(n);
                 thrust::gather(thrust::device, order_.begin(), order_.end(), array.begin(),
-                               gatherIndex_.begin());
-                array.swap(gatherIndex_);
+                               keysAlt_.begin());
+                array.swap(keysAlt_);
+            } else {  // a field of another type added to the list
+                DeviceArray<T> gathered(n);
+                thrust::gather(thrust::device, order_.begin(), order_.end(), array.begin(),
+                               gathered.begin());
+                array.swap(gathered);
             }
         });
     }
@@ -1098,7 +1105,7 @@ class DeviceBackend final : public Backend {
                  bytesOf(cellBlock_) + bytesOf(blockKey_) + bytesOf(blockMask_) +
                  bytesOf(blockFirstCell_) + bytesOf(blockNeighbors_);
         bytes += bytesOf(listStart_) + bytesOf(listIndex_);
-        bytes += bytesOf(gatherFloat_) + bytesOf(gatherIndex_) + bytesOf(partials_);
+        bytes += bytesOf(gatherFloat_) + bytesOf(partials_);
         bytes += bytesOf(reactionSums_) + bytesOf(reactionTotals_) + solids_.bytes();
         bytes += scratch_.bytes();  // the sort's and the reductions' buffers
         return bytes;
@@ -1150,7 +1157,6 @@ class DeviceBackend final : public Backend {
     DeviceArray<std::uint64_t> listStart_;  // the neighbour lists' offsets (n + 1)
     DeviceArray<std::uint32_t> listIndex_;  // their neighbours' indices
     DeviceArray<float> gatherFloat_;
-    DeviceArray<std::uint32_t> gatherIndex_;
     mutable DeviceArray<detail::StatisticsPartial> partials_;
     // Coupled solids' reactions: two record slots (step arrays), per-block
     // sums, totals.

@@ -55,6 +55,7 @@ class MpiBackend final : public Backend {
         if (positions.size() != velocities.size())
             throw std::invalid_argument(
                 "Backend::append: positions and velocities differ in length");
+        checkParticlesPerProcess(kind(), store_.size(), positions.size());
         for (std::size_t k = 0; k < positions.size(); ++k) {
             if (halo_.ownerOf(positions[k]) == rank_) {
                 store_.add(positions[k], velocities[k], density);
@@ -107,25 +108,20 @@ class MpiBackend final : public Backend {
         if (first == all.end()) return std::nullopt;
         const int root = int(first - all.begin());
         BadParticle bad = mine.value_or(BadParticle{});
-        double values[7] = {double(offset_ + bad.index),
-                            double(bad.id),
-                            bad.position.x,
-                            bad.position.y,
-                            bad.position.z,
-                            bad.velocity.x,
-                            bad.velocity.y};
-        float vz = bad.velocity.z;
-        checkMpi(MPI_Bcast(values, 7, MPI_DOUBLE, root, comm_), "MPI_Bcast (state guard)");
-        checkMpi(MPI_Bcast(&vz, 1, MPI_FLOAT, root, comm_), "MPI_Bcast (state guard)");
+        std::uint64_t where[2] = {std::uint64_t(offset_ + bad.index), bad.id};
+        float values[6] = {bad.position.x, bad.position.y, bad.position.z,
+                           bad.velocity.x, bad.velocity.y, bad.velocity.z};
+        checkMpi(MPI_Bcast(where, 2, MPI_UINT64_T, root, comm_), "MPI_Bcast (state guard)");
+        checkMpi(MPI_Bcast(values, 6, MPI_FLOAT, root, comm_), "MPI_Bcast (state guard)");
         int length = int(bad.problem.size());
         checkMpi(MPI_Bcast(&length, 1, MPI_INT, root, comm_), "MPI_Bcast (state guard)");
         bad.problem.resize(std::size_t(length));
         checkMpi(MPI_Bcast(bad.problem.data(), length, MPI_CHAR, root, comm_),
                  "MPI_Bcast (state guard)");
-        bad.index = std::size_t(values[0]);
-        bad.id = std::uint32_t(values[1]);
-        bad.position = {float(values[2]), float(values[3]), float(values[4])};
-        bad.velocity = {float(values[5]), float(values[6]), vz};
+        bad.index = std::size_t(where[0]);
+        bad.id = where[1];
+        bad.position = {values[0], values[1], values[2]};
+        bad.velocity = {values[3], values[4], values[5]};
         return bad;
     }
 

@@ -151,7 +151,7 @@ TEST(DeviceWorld, EmitterAgreesWithTheCpu) {
     for (int k = 0; k < 30; ++k) stepFrame(device);
     const ParticleStore& p = device.particles();
     EXPECT_GT(p.size(), before + 30);
-    std::vector<std::uint32_t> ids = p.id;
+    std::vector<std::uint64_t> ids = p.id;
     std::sort(ids.begin(), ids.end());
     for (std::size_t k = 0; k < ids.size(); ++k) ASSERT_EQ(ids[k], k);
 }
