@@ -79,7 +79,8 @@ INSTANTIATE_TEST_SUITE_P(Backends, WideIds,
 // More particles than 32-bit indices reach are refused by name before any
 // memory is asked for.
 TEST(WideIds, AProcessRefusesMoreParticlesThanItCanIndex) {
-    EXPECT_NO_THROW(pbf::checkParticlesPerProcess(BackendKind::Cpu, pbf::kMaxParticlesPerProcess - 2, 2));
+    EXPECT_NO_THROW(
+        pbf::checkParticlesPerProcess(BackendKind::Cpu, pbf::kMaxParticlesPerProcess - 2, 2));
     try {
         pbf::checkParticlesPerProcess(BackendKind::CudaOnCpu, pbf::kMaxParticlesPerProcess - 2, 3);
         ADD_FAILURE() << "no error";
