@@ -128,8 +128,9 @@ void ParticleStore::reorder(std::span<const std::uint32_t> perm, std::span<std::
                 permute(*c, perm, scratchFloat_);
             } else {
                 static_assert(alignof(T) <= alignof(std::uint64_t));
-                const bool lent = scratch.size() >= sizeof(T) * perm.size() &&
-                                  reinterpret_cast<std::uintptr_t>(scratch.data()) % alignof(T) == 0;
+                const bool lent =
+                    scratch.size() >= sizeof(T) * perm.size() &&
+                    reinterpret_cast<std::uintptr_t>(scratch.data()) % alignof(T) == 0;
                 if (!lent) scratchWide_.resize((sizeof(T) * perm.size() + 7) / 8);
                 permute(*c, perm,
                         lent ? reinterpret_cast<T*>(scratch.data())

@@ -175,8 +175,7 @@ TEST(Checkpoint, DamagedCheckpointsAreRefusedWithAClearError) {
     std::string older = good;
     older[8] = 4;  // the format before 64-bit ids
     std::ofstream(dir / "older.pbfck", std::ios::binary) << older;
-    const std::string olderError =
-        expectIoError([&] { pbf::readCheckpoint(dir / "older.pbfck"); });
+    const std::string olderError = expectIoError([&] { pbf::readCheckpoint(dir / "older.pbfck"); });
     EXPECT_NE(olderError.find("older.pbfck"), std::string::npos);
     EXPECT_NE(olderError.find("format version 4 was written by an older pbf"), std::string::npos);
     EXPECT_NE(olderError.find("without --resume"), std::string::npos);

@@ -40,8 +40,8 @@ std::size_t bytesPerParticle(const SimulationParams& params, bool coupledSolids)
     // sort's second buffers of both (the second key buffer also gathers the
     // 64-bit ids), each particle's cell, and the reorder's gather buffer of
     // the float fields.
-    bytes += 2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t) +
-             sizeof(float);
+    bytes +=
+        2 * (sizeof(std::uint64_t) + sizeof(std::uint32_t)) + sizeof(std::uint32_t) + sizeof(float);
     // The sparse grid (backend/sparse_grid.hpp), planned at a cell per four
     // particles (water at rest has eight per cell; spray fewer) and a row of
     // the key (up to 64 cells along x) per sixteen: per cell its key, start,
