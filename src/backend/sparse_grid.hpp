@@ -206,19 +206,20 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
     // points beyond the key's range this underestimates the distance to the
     // neighbours, so nothing closer than h is dropped).
     const std::uint32_t cc[3] = {nb.centre.x, nb.centre.y, nb.centre.z};
+    const Vec3 q = g.frame.keyAxes(p);  // the frame's origin and coordinates are in key axes
     // gap2[a][s]: the squared distance from p to the neighbour cells of step
     // s - 1 along axis a (0 for its own column).
     float gap2[3][3];
     float magnitude = 0.0f;  // the largest |coordinate| involved, in cells
     for (int a = 0; a < 3; ++a) {
-        const float f = (p[a] - g.frame.origin[a]) * g.frame.inverseCell - float(cc[a]);
+        const float f = (q[a] - g.frame.origin[a]) * g.frame.inverseCell - float(cc[a]);
         const float lower = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
         const float upper = 1.0f - lower;
         gap2[a][0] = lower * lower;
         gap2[a][1] = 0.0f;
         gap2[a][2] = upper * upper;
         const float o = g.frame.origin[a];
-        const float m = ((p[a] < 0.0f ? -p[a] : p[a]) + (o < 0.0f ? -o : o)) * g.frame.inverseCell;
+        const float m = ((q[a] < 0.0f ? -q[a] : q[a]) + (o < 0.0f ? -o : o)) * g.frame.inverseCell;
         magnitude = m > magnitude ? m : magnitude;
     }
     // A few float roundings of the largest magnitude (2^-20 of it), and 1e-4.

@@ -7,7 +7,9 @@
 // The key is a space-filling curve over bricks with rows inside them:
 // bricks of 64 x 32 x 32 cells (x, y, z) in Morton's order (the bricks'
 // coordinates' bits interleaved), and inside a brick the cells in rows, x
-// fastest, then z, then y. A particle's 26 neighbour cells are then 9 runs
+// fastest, then z, then y. These are the key's axes; a frame maps the
+// world's onto them (CellFrame::axis; domainFrame puts the domain's
+// shortest side along the rows and its longest slowest). A particle's 26 neighbour cells are then 9 runs
 // of 3 cells contiguous in memory, and the rows the solver's passes read
 // move through memory as steadily as a dense grid's (Morton's and
 // Hilbert's orders of single cells scatter them far apart and defeat the
@@ -163,18 +165,31 @@ PBF_HD constexpr int keyBits(std::uint32_t cellsPerAxis) {
 // clamping is monotone and never moves two points apart in cell coordinates,
 // so two points closer than a cell edge stay in the same or adjacent cells
 // and searches remain exact.
+//
+// The key's axes are the world's in an order the frame chooses (`axis`):
+// key axis k is world axis axis[k]. Every coordinate and position a frame
+// hands out or takes (coords, origin, corner, keyAxes) is in key axes.
 struct CellFrame {
-    Vec3 origin;
+    Vec3 origin;  // in key axes
     float cell;
     float inverseCell;
     std::uint32_t maxCoordinate;
+    std::uint8_t axis[3] = {0, 1, 2};
 
     // maxCoordinate + 1 a power of two (at most kCellsPerAxis): the keys
-    // then use keyBits(maxCoordinate + 1) bits.
+    // then use keyBits(maxCoordinate + 1) bits. `origin` in world axes;
+    // `axes[k]`: the world axis of key axis k.
     static CellFrame over(const Vec3& origin, float cell,
-                          std::uint32_t maxCoordinate = kCellsPerAxis - 1) {
-        return {origin, cell, 1.0f / cell, maxCoordinate};
+                          std::uint32_t maxCoordinate = kCellsPerAxis - 1,
+                          const std::uint8_t (&axes)[3] = kWorldAxes) {
+        CellFrame f{{}, cell, 1.0f / cell, maxCoordinate, {axes[0], axes[1], axes[2]}};
+        f.origin = f.keyAxes(origin);
+        return f;
     }
+    static constexpr std::uint8_t kWorldAxes[3] = {0, 1, 2};
+
+    // A world position in key axes.
+    PBF_HD Vec3 keyAxes(const Vec3& p) const { return {p[axis[0]], p[axis[1]], p[axis[2]]}; }
 
     // Coordinate of `value` along an axis whose cells start at `start`. For
     // t > 0 truncation is floor (no libm call on the device). Branch-free
@@ -187,11 +202,14 @@ struct CellFrame {
         t = t < top ? t : top;
         return static_cast<std::uint32_t>(static_cast<std::int32_t>(t));
     }
-    PBF_HD CellCoords coords(const Vec3& p) const {
-        return {coordinate(p.x, origin.x), coordinate(p.y, origin.y), coordinate(p.z, origin.z)};
+    // The cell of a position given in key axes (a loop over many particles
+    // permutes its arrays once, then calls this: it vectorises).
+    PBF_HD CellCoords coordsOfKeyAxes(const Vec3& q) const {
+        return {coordinate(q.x, origin.x), coordinate(q.y, origin.y), coordinate(q.z, origin.z)};
     }
+    PBF_HD CellCoords coords(const Vec3& p) const { return coordsOfKeyAxes(keyAxes(p)); }
     PBF_HD std::uint64_t keyOf(const Vec3& p) const { return cellKey(coords(p)); }
-    // The lowest corner of a cell.
+    // The lowest corner of a cell, in key axes.
     PBF_HD Vec3 corner(CellCoords c) const {
         return {origin.x + float(c.x) * cell, origin.y + float(c.y) * cell,
                 origin.z + float(c.z) * cell};
@@ -213,7 +231,21 @@ inline bool domainFrame(const Aabb& domain, float cell, CellFrame& frame) {
     }
     std::uint32_t span = 1;
     while (double(span) < widest) span <<= 1;
-    frame = CellFrame::over(domain.min, cell, span - 1);
+    // The shortest side along the key's rows, the longest slowest (x of the
+    // key, then z, then y): a particle's neighbours then lie within the
+    // thinnest slab of memory the domain allows, as they did in the dense
+    // grid that numbered its cells this way. Ties keep the world's order.
+    std::uint8_t axes[3] = {0, 1, 2};
+    for (int i = 1; i < 3; ++i)
+        for (int k = i; k > 0 && e[axes[k]] < e[axes[k - 1]]; --k) {
+            const std::uint8_t t = axes[k];
+            axes[k] = axes[k - 1];
+            axes[k - 1] = t;
+        }
+    // Ascending extent: key x (rows) the shortest, key z the middle, key y
+    // the longest.
+    const std::uint8_t keyOrder[3] = {axes[0], axes[2], axes[1]};
+    frame = CellFrame::over(domain.min, cell, span - 1, keyOrder);
     return true;
 }
 

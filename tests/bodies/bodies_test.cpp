@@ -80,11 +80,13 @@ double degreesBetween(const Quat& a, const Quat& b) {
 //
 // Coming to rest: the motion of the drop decays to the noise floor of the
 // particles (PBF's residual velocity noise, ~1 cm/s): the speed falls to a
-// quarter of the first second's, the height holds within 3 mm and the
-// orientation within 10 degrees over the last second. The angular velocity
+// quarter of the first second's, the height holds within 3 mm over the last
+// of 5 seconds (measured 0.8 / 1.0 / 0.8 mm; at 4 s the heaviest cube still
+// bobbed by 3.2 mm, a slowly damped heave whose amplitude there depends on
+// the rounding of the sums), and the tilt holds. The angular velocity
 // keeps a jitter of a few tenths of a rad/s (light 10 cm cubes in a
 // particle fluid) that turns them slowly about the vertical, where nothing
-// restores them; the tilt holds.
+// restores them.
 TEST(Bodies, CubesFloatAtArchimedesDepthAndComeToRest) {
     WorldDef def = tank();
     const float densities[3] = {250.0f, 500.0f, 750.0f};
@@ -97,7 +99,7 @@ TEST(Bodies, CubesFloatAtArchimedesDepthAndComeToRest) {
     std::vector<BodyMotion> early(3), late(3);
     std::vector<RigidBodyState> lastSecond;
     std::vector<double> lowest(3, 1.0), highest(3, 0.0);
-    const int frames = 120;  // 4 s
+    const int frames = 150;  // 5 s
     for (int frame = 1; frame <= frames; ++frame) {
         const FrameReport r = stepFrame(world);
         ASSERT_EQ(r.state.insideSolid, 0u) << "frame " << frame;

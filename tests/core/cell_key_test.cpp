@@ -123,12 +123,20 @@ TEST(CellKey, DomainFramesUseTheBitsTheirCellsNeed) {
     // The highest corner's key: brick (1, 3, 3) = Morton 0b111'111 after 16 bits.
     EXPECT_EQ(cell_key::keyBits(f.maxCoordinate + 1), 22);
     EXPECT_EQ(cell_key::keyBits(1), 0);
+    // The key's axes: rows along the shortest side (z), the longest (x)
+    // slowest (the key's y), the middle one (y) as the key's z.
+    EXPECT_EQ(f.axis[0], 2);
+    EXPECT_EQ(f.axis[1], 0);
+    EXPECT_EQ(f.axis[2], 1);
+    EXPECT_EQ(f.coords({1.51f, 0.51f, 0.11f}), (CellCoords{5, 75, 25}));
+    EXPECT_EQ(f.keyAxes({1, 2, 3}), (pbf::Vec3{3, 1, 2}));
     // Beyond the key's range, or no extent: refused.
     EXPECT_FALSE(cell_key::domainFrame({{0, 0, 0}, {5e4f, 1, 1}}, 0.02f, f));
     EXPECT_FALSE(cell_key::domainFrame({{0, 0, 0}, {1, 0, 1}}, 0.02f, f));
-    // Below the origin and beyond the last cell: the border cells.
+    // Below the origin and beyond the last cell: the border cells (a cube:
+    // key x, y, z are the world's x, z, y).
     ASSERT_TRUE(cell_key::domainFrame({{-1, -1, -1}, {1, 1, 1}}, 0.5f, f));
-    EXPECT_EQ(f.coords({-3, 0.1f, 7}), (CellCoords{0, 2, f.maxCoordinate}));
+    EXPECT_EQ(f.coords({-3, 0.1f, 7}), (CellCoords{0, f.maxCoordinate, 2}));
 }
 
 TEST(RadixSort, EqualsAStableSortForAnyWidthAndThreadCount) {

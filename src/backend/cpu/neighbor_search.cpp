@@ -29,9 +29,12 @@ void NeighborSearch::sortByCell(const Float3Array& positions, std::vector<std::u
     perm.resize(n);
     detail::parallelFor(n, [&](std::size_t begin, std::size_t end) {
         const cell_key::CellFrame frame = frame_;
-        const float *x = positions.x.data(), *y = positions.y.data(), *z = positions.z.data();
+        // The arrays in the key's axis order, so that the loop vectorises.
+        const float* world[3] = {positions.x.data(), positions.y.data(), positions.z.data()};
+        const float *a = world[frame.axis[0]], *b = world[frame.axis[1]], *c = world[frame.axis[2]];
         std::uint64_t* keys = keys_.data();
-        for (std::size_t i = begin; i < end; ++i) keys[i] = frame.keyOf({x[i], y[i], z[i]});
+        for (std::size_t i = begin; i < end; ++i)
+            keys[i] = cell_key::cellKey(frame.coordsOfKeyAxes({a[i], b[i], c[i]}));
     });
     // Stable: particles keep their relative order inside a cell, so the
     // result is the same whatever the thread count.
