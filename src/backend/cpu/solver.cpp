@@ -16,8 +16,7 @@ using RangeStage = void (*)(const SolverStep&, std::size_t, std::size_t);
 // ones, in parallel blocks.
 template <RangeStage Fn>
 void overAll(SolverStep& s) {
-    detail::parallelFor(s.particles.size(),
-                        [&](std::size_t b, std::size_t e) { Fn(s, b, e); });
+    detail::parallelFor(s.particles.size(), [&](std::size_t b, std::size_t e) { Fn(s, b, e); });
 }
 template <RangeStage Fn>
 void overOwned(SolverStep& s) {
@@ -75,12 +74,13 @@ void Solver::buildPlan() {
     };
     // Alg. 1 l. 1-7: prediction, collisions, neighbours.
     plan_.add(Part::Before, {Stage::Predict, predict});
-    plan_.add(Part::Before, {Stage::WarmStart, overAll<stages::warmStartPredictions>,
-                             whenOn(&T::warmStart)});
-    plan_.add(Part::Before, {Stage::CollideSolids, overAll<stages::resolveSolidCollisions>,
-                             whenOn(&T::solids)});
+    plan_.add(Part::Before,
+              {Stage::WarmStart, overAll<stages::warmStartPredictions>, whenOn(&T::warmStart)});
+    plan_.add(Part::Before,
+              {Stage::CollideSolids, overAll<stages::resolveSolidCollisions>, whenOn(&T::solids)});
     plan_.add(Part::Before, {Stage::SortByCell, solver(&Solver::sortByCell)});
-    plan_.add(Part::Before, {Stage::Reorder, [this](SolverStep& s) { s.particles.reorder(perm_); }});
+    plan_.add(Part::Before,
+              {Stage::Reorder, [this](SolverStep& s) { s.particles.reorder(perm_); }});
     plan_.add(Part::Before, {Stage::NeighborLists, [this](SolverStep& s) {
                                  search_.buildNeighborLists(s.particles.predicted);
                              }});
@@ -112,9 +112,9 @@ void Solver::buildPlan() {
     plan_.add(Part::After, {Stage::RecordSolveAcceleration,
                             overAll<stages::recordSolveAcceleration>, whenOn(&T::warmStart)});
     plan_.add(Part::After, {Stage::UpdateVelocity, overAll<stages::updateVelocity>});
-    plan_.add(Part::After, {Stage::ViscosityAndVorticity,
-                            overOwned<stages::applyViscosityAndComputeVorticity>,
-                            whenOn(&T::viscosityPass)});
+    plan_.add(Part::After,
+              {Stage::ViscosityAndVorticity, overOwned<stages::applyViscosityAndComputeVorticity>,
+               whenOn(&T::viscosityPass)});
     plan_.add(Part::After, {Stage::PhysicalViscosity, overOwned<stages::applyPhysicalViscosity>,
                             whenOn(&T::physicalViscosity)});
     plan_.add(Part::After, {Stage::VorticityConfinement,

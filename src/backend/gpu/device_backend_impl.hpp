@@ -702,8 +702,7 @@ class DeviceBackend final : public Backend {
 
     // Sizes the step's scratch for n particles and these settings (no
     // allocation once the count and settings stop changing).
-    void prepare(const StepTerms& terms, const SolidsArgument& solids,
-                 const SolidSet* hostSolids) {
+    void prepare(const StepTerms& terms, const SolidsArgument& solids, const SolidSet* hostSolids) {
         const std::size_t n = p_.size();
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
@@ -712,7 +711,7 @@ class DeviceBackend final : public Backend {
         order_.resize(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
         // The step arrays these settings use (device_step_arrays.hpp).
-#define PBF_SIZE_STEP_ARRAY(name, type, components, use)                        \
+#define PBF_SIZE_STEP_ARRAY(name, type, components, use) \
     if (stepArrayInUse(StepArrayUse::use, terms, reactionsActive_)) name##_.resize(n);
         PBF_DEVICE_STEP_ARRAYS(PBF_SIZE_STEP_ARRAY)
 #undef PBF_SIZE_STEP_ARRAY
@@ -826,17 +825,17 @@ class DeviceBackend final : public Backend {
                                    p_.position.view(), p_.velocity.view(), p_.predicted.view()});
     }
     void warmStart(DeviceStep& s) {
-        forEachIndex(p_.size(),
-                     WarmStartKernel{s.context.constants, s.context.params.solver.warmStart, s.dt,
-                                     p_.predicted.view(), p_.solveAcceleration.view(),
-                                     raw(p_.density)});
+        forEachIndex(
+            p_.size(),
+            WarmStartKernel{s.context.constants, s.context.params.solver.warmStart, s.dt,
+                            p_.predicted.view(), p_.solveAcceleration.view(), raw(p_.density)});
     }
     // Its reaction records are folded before the reorder: the blocks of
     // the particles' old order, as on the CPU.
     void collideSolids(DeviceStep& s) {
-        forEachIndex(p_.size(), CollideSolidsKernel{s.context.constants, s.solids.solids,
-                                                    p_.position.view(), p_.predicted.view(),
-                                                    slot(0)});
+        forEachIndex(p_.size(),
+                     CollideSolidsKernel{s.context.constants, s.solids.solids, p_.position.view(),
+                                         p_.predicted.view(), slot(0)});
         foldReactions(1);
     }
     void neighborListsStage(DeviceStep& s) {
@@ -844,18 +843,18 @@ class DeviceBackend final : public Backend {
         s.search = neighborLists();
     }
     void densityAndLambda(DeviceStep& s) {
-        forEachIndex(p_.size(), DensityLambdaKernel{s.context.constants, s.solids, s.search,
-                                                    p_.predicted.view(), raw(p_.density),
-                                                    raw(lambda_)});
+        forEachIndex(p_.size(),
+                     DensityLambdaKernel{s.context.constants, s.solids, s.search,
+                                         p_.predicted.view(), raw(p_.density), raw(lambda_)});
     }
     // The tolerance's test (core/iteration_control.hpp): the compression
     // summed in fixed point, exact in any order.
     void compressionTotals(DeviceStep& s) {
         const std::size_t n = p_.size();
-        s.compression = thrust::transform_reduce(
-            thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
-            CompressionOf{s.context.constants, raw(p_.density)}, std::int64_t{0},
-            thrust::plus<std::int64_t>());
+        s.compression =
+            thrust::transform_reduce(thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+                                     CompressionOf{s.context.constants, raw(p_.density)},
+                                     std::int64_t{0}, thrust::plus<std::int64_t>());
     }
     void convergenceCheck(DeviceStep& s) {
         s.stopIterations =
@@ -879,10 +878,9 @@ class DeviceBackend final : public Backend {
         p_.predicted.z.swap(corrected_.z);
     }
     void recordSolveAcceleration(DeviceStep& s) {
-        forEachIndex(p_.size(), RecordSolveAccelerationKernel{s.dt, p_.position.view(),
-                                                              p_.predicted.view(),
-                                                              p_.velocity.view(),
-                                                              p_.solveAcceleration.view()});
+        forEachIndex(p_.size(), RecordSolveAccelerationKernel{
+                                    s.dt, p_.position.view(), p_.predicted.view(),
+                                    p_.velocity.view(), p_.solveAcceleration.view()});
     }
     void updateVelocity(DeviceStep& s) {
         forEachIndex(p_.size(), UpdateVelocityKernel{s.dt, p_.position.view(), p_.predicted.view(),
@@ -958,10 +956,10 @@ class DeviceBackend final : public Backend {
     }
     void respondAndCommit(DeviceStep& s) {
         const SolverParams& solver = s.context.params.solver;
-        forEachIndex(p_.size(), RespondCommitKernel{s.context.constants, solver.restitution,
-                                                    solver.friction, s.dt, s.solids,
-                                                    p_.predicted.view(), p_.velocity.view(),
-                                                    p_.position.view(), slot(0)});
+        forEachIndex(p_.size(),
+                     RespondCommitKernel{s.context.constants, solver.restitution, solver.friction,
+                                         s.dt, s.solids, p_.predicted.view(), p_.velocity.view(),
+                                         p_.position.view(), slot(0)});
         foldReactions(1);
     }
 

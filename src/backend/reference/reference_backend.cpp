@@ -89,7 +89,11 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     // Two-way coupling (backend/reactions.hpp): every move a coupled solid's
     // boundary gives a particle is recorded; its reaction acts on the body.
     reactions_.reset(store_.size(), solids);
-    const Step s{context.params, context.constants, terms, solids, dt,
+    const Step s{context.params,
+                 context.constants,
+                 terms,
+                 solids,
+                 dt,
                  reactions_.active() ? &reactions_ : nullptr};
 
     auto t = Clock::now();

@@ -64,9 +64,8 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
     s.withLambda = withLambda.data();
     s.velocityDensity = velocityDensity.data();
     stages::packPositions(s, 0, n);
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeDensityAndLambda(s, b, e);
-    });
+    inUnevenRanges(n,
+                   [&](std::size_t b, std::size_t e) { stages::computeDensityAndLambda(s, b, e); });
     out.density = p.density;
     s.predicted = corrected.data();  // the correction's output
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::correctPositions(s, b, e); });
@@ -94,10 +93,9 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
         for (std::size_t i = 0; i < n; ++i)
             p.velocity.set(i, {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
         stages::packPositionDensities(st, 0, n);
-        inUnevenRanges(n,
-                       [&](std::size_t b, std::size_t e) { stages::applySurfaceTension(st, b, e); });
-        for (std::size_t i = 0; i < n; ++i)
-            out.surfaceTensionVelocity.push_back(p.velocity.get(i));
+        inUnevenRanges(
+            n, [&](std::size_t b, std::size_t e) { stages::applySurfaceTension(st, b, e); });
+        for (std::size_t i = 0; i < n; ++i) out.surfaceTensionVelocity.push_back(p.velocity.get(i));
     }
     for (std::size_t i = 0; i < n; ++i) {
         out.lambda.push_back(withLambda[i].w);
@@ -217,8 +215,7 @@ TEST_P(SimdVsReference, CurvatureForceStagesMatchTheReference) {
                    [&](std::size_t b, std::size_t e) { stages::computeColourGradient(s, b, e); });
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::computeBandNormal(s, b, e); });
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::computeCurvature(s, b, e); });
-    inUnevenRanges(n,
-                   [&](std::size_t b, std::size_t e) { stages::applyCurvatureForce(s, b, e); });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::applyCurvatureForce(s, b, e); });
     std::vector<Vec3> xStar(n), a(n);
     for (std::size_t i = 0; i < n; ++i) {
         xStar[i] = p.predicted.get(i);
