@@ -41,37 +41,49 @@ std::uint32_t index(std::size_t i) {
 
 }  // namespace
 
-void computeColourGradient(const SolverConstants& c, const NeighborSearch& search,
-                           const PackedPoint* predicted, Float3Array& gradient, std::size_t begin,
-                           std::size_t end) {
+void computeColourGradient(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    Float3Array& gradient = *s.colourGradient;
     for (std::size_t i = begin; i < end; ++i)
         gradient.set(i, reference::colourGradientOf(c, ListNeighbors{search.neighbors(i)},
                                                     PackedPositions{predicted}, index(i)));
 }
 
-void computeBandNormal(const SolverConstants& c, const NeighborSearch& search,
-                       const PackedPoint* predicted, const Float3Array& gradient,
-                       Float3Array& normal, std::size_t begin, std::size_t end) {
+void computeBandNormal(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const Float3Array& gradient = *s.colourGradient;
+    Float3Array& normal = *s.bandNormal;
     for (std::size_t i = begin; i < end; ++i)
         normal.set(i, reference::bandNormalOf(c, ListNeighbors{search.neighbors(i)},
                                               PackedPositions{predicted}, VectorField{&gradient},
                                               index(i)));
 }
 
-void computeCurvature(const SolverConstants& c, const NeighborSearch& search,
-                      const PackedPoint* predicted, const Float3Array& gradient,
-                      const Float3Array& normal, float* curvature, std::size_t begin,
-                      std::size_t end) {
+void computeCurvature(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const Float3Array& gradient = *s.colourGradient;
+    const Float3Array& normal = *s.bandNormal;
+    float* curvature = s.curvature;
     for (std::size_t i = begin; i < end; ++i)
         curvature[i] = reference::curvatureOf(c, ListNeighbors{search.neighbors(i)},
                                               PackedPositions{predicted}, VectorField{&gradient},
                                               VectorField{&normal}, index(i));
 }
 
-void applyCurvatureForce(const SolverConstants& c, float dt, const NeighborSearch& search,
-                         const PackedPoint* predicted, const Float3Array& gradient,
-                         const float* curvature, Float3Array& velocity, std::size_t begin,
-                         std::size_t end) {
+void applyCurvatureForce(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float dt = s.dt;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const Float3Array& gradient = *s.colourGradient;
+    const float* curvature = s.curvature;
+    Float3Array& velocity = s.particles.velocity;
     for (std::size_t i = begin; i < end; ++i)
         velocity.set(i, velocity.get(i) + reference::curvatureForceVelocityChangeOf(
                                               c, dt, ListNeighbors{search.neighbors(i)},

@@ -105,10 +105,13 @@ struct DensityParticle {
     }
 };
 
-std::int64_t DensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                              const NeighborSearch& search, const PackedPoint* predicted,
-                              float* density, PackedPoint* withLambda, std::size_t begin,
-                              std::size_t end) {
+std::int64_t DensityAndLambda(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const SolidSet* solids = s.solids;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    float* density = s.particles.density.data();
+    PackedPoint* withLambda = s.withLambda;
     const float gradScale = c.particleMass * c.inverseRestDensity;
     std::int64_t compression = 0;
     forEachListBlock(search, begin, end,
@@ -224,10 +227,14 @@ void positionCorrectionRange(const CorrectionPass& pass, std::size_t begin, std:
         forEachParticleInterleaved<CorrectionParticle<Exponent, false>>(pass, begin, end);
 }
 
-void CorrectPositions(const SolverConstants& c, const SolidSet* solids,
-                      ReactionAccumulator* reactions, const NeighborSearch& search,
-                      const Float3Array& start, const PackedPoint* withLambda,
-                      PackedPoint* corrected, std::size_t begin, std::size_t end) {
+void CorrectPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const SolidSet* solids = s.solids;
+    ReactionAccumulator* reactions = s.reactions;
+    const NeighborSearch& search = s.search;
+    const Float3Array& start = s.particles.position;
+    const PackedPoint* withLambda = s.withLambda;
+    PackedPoint* corrected = s.predicted;
     const FloatTag d;
     // One instantiation per exponent allowed by validate() (n in [1, 8]).
     using Range = void (*)(const CorrectionPass&, std::size_t, std::size_t);
@@ -309,10 +316,14 @@ void viscosityAndVorticityRange(const SolverConstants& c, float viscosity,
     }
 }
 
-void ViscosityAndVorticity(const SolverConstants& c, float viscosity, const NeighborSearch& search,
-                           const PackedPoint* predicted, const PackedPoint* velocityDensity,
-                           Float3Array* vorticity, Float3Array& velocity, std::size_t begin,
-                           std::size_t end) {
+void ViscosityAndVorticity(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float viscosity = s.context.params.fluid.viscosity;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const PackedPoint* velocityDensity = s.velocityDensity;
+    Float3Array* vorticity = s.terms.vorticity ? s.vorticity : nullptr;
+    Float3Array& velocity = s.particles.velocity;
     forEachListBlock(
         search, begin, end, [&](std::size_t first, std::size_t last, const NeighborList& block) {
             if (block.wide)
@@ -334,28 +345,16 @@ HWY_EXPORT(DensityAndLambda);
 HWY_EXPORT(CorrectPositions);
 HWY_EXPORT(ViscosityAndVorticity);
 
-std::int64_t computeDensityAndLambda(const SolverConstants& c, const SolidSet* solids,
-                                     const NeighborSearch& search, const PackedPoint* predicted,
-                                     float* density, PackedPoint* withLambda, std::size_t begin,
-                                     std::size_t end) {
-    return HWY_DYNAMIC_DISPATCH(DensityAndLambda)(c, solids, search, predicted, density, withLambda,
-                                                  begin, end);
+std::int64_t computeDensityAndLambda(const SolverStep& s, std::size_t begin, std::size_t end) {
+    return HWY_DYNAMIC_DISPATCH(DensityAndLambda)(s, begin, end);
 }
 
-void correctPositions(const SolverConstants& c, const SolidSet* solids,
-                      ReactionAccumulator* reactions, const NeighborSearch& search,
-                      const Float3Array& start, const PackedPoint* withLambda,
-                      PackedPoint* corrected, std::size_t begin, std::size_t end) {
-    HWY_DYNAMIC_DISPATCH(CorrectPositions)
-    (c, solids, reactions, search, start, withLambda, corrected, begin, end);
+void correctPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(CorrectPositions)(s, begin, end);
 }
 
-void applyViscosityAndComputeVorticity(const SolverConstants& c, float viscosity,
-                                       const NeighborSearch& search, const PackedPoint* predicted,
-                                       const PackedPoint* velocityDensity, Float3Array* vorticity,
-                                       Float3Array& velocity, std::size_t begin, std::size_t end) {
-    HWY_DYNAMIC_DISPATCH(ViscosityAndVorticity)
-    (c, viscosity, search, predicted, velocityDensity, vorticity, velocity, begin, end);
+void applyViscosityAndComputeVorticity(const SolverStep& s, std::size_t begin, std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(ViscosityAndVorticity)(s, begin, end);
 }
 
 }  // namespace pbf::stages

@@ -10,23 +10,44 @@ namespace pbf {
 namespace {
 
 using Part = StepPlan<SolverStep>::Part;
+using RangeStage = void (*)(const SolverStep&, std::size_t, std::size_t);
 
-// Runs fn(begin, end) over every particle / over the owned ones, in
-// parallel blocks.
-template <class Fn>
-void forAll(const SolverStep& s, Fn&& fn) {
-    detail::parallelFor(s.particles.size(), fn);
+// A stage that runs a range function over every particle / over the owned
+// ones, in parallel blocks.
+template <RangeStage Fn>
+void overAll(SolverStep& s) {
+    detail::parallelFor(s.particles.size(), [&](std::size_t b, std::size_t e) { Fn(s, b, e); });
 }
-template <class Fn>
-void forOwned(const SolverStep& s, Fn&& fn) {
-    detail::parallelForRange(s.ownedBegin, s.ownedEnd, fn);
+template <RangeStage Fn>
+void overOwned(SolverStep& s) {
+    detail::parallelForRange(s.ownedBegin, s.ownedEnd,
+                             [&](std::size_t b, std::size_t e) { Fn(s, b, e); });
 }
 
-bool warmStartOn(const SolverStep& s) {
-    return s.context.params.solver.warmStart > 0.0f;
+void predict(SolverStep& s) {
+    overAll<stages::predictPositions>(s);
+    // The last substep's pressure acceleration, in the store so that it
+    // follows the particles through reorder, emitters and checkpoints;
+    // dropped while the warm start is off.
+    s.particles.keepOptionalField(ParticleField::solveAcceleration, s.terms.warmStart);
 }
-bool vorticityOn(const SolverStep& s) {
-    return s.context.params.fluid.vorticity > 0.0f;
+
+void convergenceCheck(SolverStep& s) {
+    s.stopIterations = s.control.converged(
+        s.corrections, averageCompression(s.compression[0], std::uint64_t(s.compression[1])));
+}
+
+// Surface tension reads the neighbours' (x*, rho) (the ghosts' are current
+// after the iterations): packed first, into the buffer (v, rho) was in.
+void surfaceTension(SolverStep& s) {
+    overAll<stages::packPositionDensities>(s);
+    overOwned<stages::applySurfaceTension>(s);
+}
+
+// The wall response and x = x* in one pass over each block.
+void respondAndCommit(const SolverStep& s, std::size_t begin, std::size_t end) {
+    stages::respondToBoundaries(s, begin, end);
+    stages::commitPositions(s, begin, end);
 }
 
 }  // namespace
@@ -44,56 +65,20 @@ void Solver::ensureCapacity(std::size_t n, bool withVorticity) {
     if (withVorticity) vorticity_.resize(n);  // allocates once, when first switched on
 }
 
+// The stages in Alg. 1's order: {stage, what it runs, the term that switches
+// it on (none: always)}.
 void Solver::buildPlan() {
+    using T = StepTerms;
+    const auto solver = [this](void (Solver::*stage)(SolverStep&)) {
+        return [this, stage](SolverStep& s) { (this->*stage)(s); };
+    };
     // Alg. 1 l. 1-7: prediction, collisions, neighbours.
+    plan_.add(Part::Before, {Stage::Predict, predict});
     plan_.add(Part::Before,
-              {Stage::Predict, [](SolverStep& s) {
-                   ParticleStore& p = s.particles;
-                   forAll(s, [&](std::size_t b, std::size_t e) {
-                       stages::predictPositions(s.context.params.gravity, s.dt,
-                                                s.context.constants.collisionBox, p.position,
-                                                p.velocity, p.predicted, b, e);
-                   });
-                   // The last substep's pressure acceleration, in the store so
-                   // that it follows the particles through reorder, emitters and
-                   // checkpoints; dropped while the warm start is off.
-                   p.keepOptionalField(ParticleField::solveAcceleration, warmStartOn(s));
-               }});
-    plan_.add(Part::Before, {Stage::WarmStart,
-                             [](SolverStep& s) {
-                                 ParticleStore& p = s.particles;
-                                 forAll(s, [&](std::size_t b, std::size_t e) {
-                                     stages::warmStartPredictions(
-                                         s.context.constants, s.context.params.solver.warmStart,
-                                         s.dt, p.solveAcceleration, p.density.data(), p.predicted,
-                                         b, e);
-                                 });
-                             },
-                             warmStartOn});
-    plan_.add(Part::Before, {Stage::CollideSolids,
-                             [](SolverStep& s) {
-                                 ParticleStore& p = s.particles;
-                                 forAll(s, [&](std::size_t b, std::size_t e) {
-                                     stages::resolveSolidCollisions(s.context.constants, *s.solids,
-                                                                    s.reactions, p.position,
-                                                                    p.predicted, b, e);
-                                 });
-                             },
-                             [](const SolverStep& s) { return s.solids != nullptr; }});
-    plan_.add(Part::Before, {Stage::SortByCell, [this](SolverStep& s) {
-                                 const std::size_t n = s.particles.size();
-                                 ensureCapacity(n, vorticityOn(s));
-                                 s.ownedBegin = 0;
-                                 s.ownedEnd = n;
-                                 s.predicted = packed_.data();
-                                 s.withLambda = packedWithLambda_.data();
-                                 s.vorticity = &vorticity_;
-                                 // The lambda buffer is idle until the
-                                 // density pass rewrites it: the sort's scratch.
-                                 search_.sortByCell(
-                                     s.particles.predicted, perm_,
-                                     std::as_writable_bytes(std::span(packedWithLambda_)));
-                             }});
+              {Stage::WarmStart, overAll<stages::warmStartPredictions>, whenOn(&T::warmStart)});
+    plan_.add(Part::Before,
+              {Stage::CollideSolids, overAll<stages::resolveSolidCollisions>, whenOn(&T::solids)});
+    plan_.add(Part::Before, {Stage::SortByCell, solver(&Solver::sortByCell)});
     // The position records are idle until PackPositions fills them: the
     // scratch of the 64-bit ids' permutation.
     plan_.add(Part::Before, {Stage::Reorder, [this](SolverStep& s) {
@@ -103,204 +88,99 @@ void Solver::buildPlan() {
     plan_.add(Part::Before, {Stage::NeighborLists, [this](SolverStep& s) {
                                  search_.buildNeighborLists(s.particles.predicted);
                              }});
-    plan_.add(Part::Before,
-              {Stage::PackPositions, [this](SolverStep& s) {
-                   forAll(s, [&](std::size_t b, std::size_t e) {
-                       stages::packPositions(s.particles.predicted, s.predicted, b, e);
-                   });
-                   blockCompression_.resize((s.particles.size() + detail::kBlockSize - 1) /
-                                            detail::kBlockSize);
-               }});
+    plan_.add(Part::Before, {Stage::PackPositions, solver(&Solver::packPositions)});
 
-    // Alg. 1 l. 8-19: one density iteration.
+    // Alg. 1 l. 8-19: one density iteration. The tolerance's test reads the
+    // average compression of the state the density pass just saw; the
+    // correction reads (x*, lambda) of the neighbours and writes the
+    // corrected x* over the previous iteration's: the next density pass
+    // reads it.
+    plan_.add(Part::Iteration, {Stage::DensityAndLambda, solver(&Solver::densityAndLambda)});
+    plan_.add(Part::Iteration, {Stage::CompressionTotals, solver(&Solver::compressionTotals),
+                                whenOn(&T::errorControlled)});
     plan_.add(Part::Iteration,
-              {Stage::DensityAndLambda, [this](SolverStep& s) {
-                   std::fill(blockCompression_.begin(), blockCompression_.end(), std::int64_t{0});
-                   forOwned(s, [&](std::size_t b, std::size_t e) {
-                       blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(
-                           s.context.constants, s.solids, search_, s.predicted,
-                           s.particles.density.data(), s.withLambda, b, e);
-                   });
-               }});
-    // The average compression of the state the density pass just saw.
-    auto errorControlled = [](const SolverStep& s) { return s.control.errorControlled(); };
-    plan_.add(Part::Iteration, {Stage::CompressionTotals,
-                                [this](SolverStep& s) {
-                                    s.compression[0] = 0;
-                                    s.compression[1] = std::int64_t(s.ownedEnd - s.ownedBegin);
-                                    for (const std::int64_t block : blockCompression_)
-                                        s.compression[0] += block;
-                                },
-                                errorControlled});
-    plan_.add(Part::Iteration,
-              {Stage::ConvergenceCheck,
-               [](SolverStep& s) {
-                   s.stopIterations = s.control.converged(
-                       s.corrections,
-                       averageCompression(s.compression[0], std::uint64_t(s.compression[1])));
-               },
-               errorControlled});
-    // Reads (x*, lambda) of the neighbours, writes the corrected x* over the
-    // previous iteration's: the next density pass reads it.
-    plan_.add(Part::Iteration, {Stage::CorrectPositions, [this](SolverStep& s) {
-                                    forOwned(s, [&](std::size_t b, std::size_t e) {
-                                        stages::correctPositions(
-                                            s.context.constants, s.solids, s.reactions, search_,
-                                            s.particles.position, s.withLambda, s.predicted, b, e);
-                                    });
-                                }});
+              {Stage::ConvergenceCheck, convergenceCheck, whenOn(&T::errorControlled)});
+    plan_.add(Part::Iteration, {Stage::CorrectPositions, overOwned<stages::correctPositions>});
 
-    // Alg. 1 l. 20-24: velocities, post-process, commit.
-    plan_.add(Part::After, {Stage::UnpackPositions, [](SolverStep& s) {
-                                forAll(s, [&](std::size_t b, std::size_t e) {
-                                    stages::unpackPositions(s.predicted, s.particles.predicted, b,
-                                                            e);
-                                });
-                            }});
+    // Alg. 1 l. 20-24: velocities, post-process, commit. x* is still packed
+    // in `predicted`; (v, rho) go to the other buffer. Ghosts included:
+    // their x, x* and density are their owners' values, so (x* - x) / dt is
+    // their owners' velocity without an exchange. The physical viscosity
+    // reads the packed velocities as XSPH does and adds dt a to the velocity
+    // XSPH wrote (XSPH sets v from the packed copy, so it must come first).
+    // The curvature force: g, nb and kappa of the owned particles in turn
+    // from the neighbours' x* and previous field (the ghosts' come from
+    // their owners between the passes: a ghost's own neighbourhood is
+    // incomplete), then v += dt a after the cohesion.
+    plan_.add(Part::After, {Stage::UnpackPositions, overAll<stages::unpackPositions>});
     plan_.add(Part::After, {Stage::RecordSolveAcceleration,
-                            [](SolverStep& s) {
-                                ParticleStore& p = s.particles;
-                                forAll(s, [&](std::size_t b, std::size_t e) {
-                                    stages::recordSolveAcceleration(s.dt, p.position, p.predicted,
-                                                                    p.velocity, p.solveAcceleration,
-                                                                    b, e);
-                                });
-                            },
-                            warmStartOn});
-    // x* is still packed in `predicted`; (v, rho) go to the other buffer.
-    // Ghosts included: their x, x* and density are their owners' values, so
-    // (x* - x) / dt is their owners' velocity without an exchange.
-    plan_.add(Part::After, {Stage::UpdateVelocity, [](SolverStep& s) {
-                                ParticleStore& p = s.particles;
-                                forAll(s, [&](std::size_t b, std::size_t e) {
-                                    stages::updateVelocity(1.0f / s.dt, p.position, p.predicted,
-                                                           p.density.data(), p.velocity,
-                                                           s.withLambda, b, e);
-                                });
-                            }});
-    plan_.add(Part::After, {Stage::ViscosityAndVorticity,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applyViscosityAndComputeVorticity(
-                                        s.context.constants, s.context.params.fluid.viscosity,
-                                        search_, s.predicted, s.withLambda,
-                                        vorticityOn(s) ? s.vorticity : nullptr,
-                                        s.particles.velocity, b, e);
-                                });
-                            },
-                            [](const SolverStep& s) {
-                                return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
-                            }});
-    // The physical viscosity (fluid.kinematic_viscosity) reads the packed
-    // velocities as XSPH does (ghosts' included: UpdateVelocity ran over
-    // every particle, so no exchange) and adds dt a to the velocity XSPH
-    // wrote (XSPH sets v from the packed copy, so it must come first).
-    plan_.add(
-        Part::After,
-        {Stage::PhysicalViscosity,
-         [this](SolverStep& s) {
-             forOwned(s, [&](std::size_t b, std::size_t e) {
-                 stages::applyPhysicalViscosity(
-                     s.context.constants, s.context.params.fluid.kinematicViscosity, s.dt, search_,
-                     s.predicted, s.withLambda, s.particles.velocity, b, e);
-             });
-         },
-         [](const SolverStep& s) { return s.context.params.fluid.kinematicViscosity > 0.0f; }});
-    plan_.add(Part::After, {Stage::VorticityConfinement,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applyVorticityConfinement(
-                                        s.context.constants, s.context.params.fluid.vorticity, s.dt,
-                                        search_, s.particles.predicted, *s.vorticity,
-                                        s.particles.density.data(), s.particles.velocity, b, e);
-                                });
-                            },
-                            vorticityOn});
-    // Surface tension: cohesion of the surface layer and
-    // adhesion, v += dt a at x*. Reads the neighbours' x* and density (the
-    // ghosts' are current after the iterations): no exchange of its own.
+                            overAll<stages::recordSolveAcceleration>, whenOn(&T::warmStart)});
+    plan_.add(Part::After, {Stage::UpdateVelocity, overAll<stages::updateVelocity>});
     plan_.add(Part::After,
-              {Stage::SurfaceTension,
-               [this](SolverStep& s) {
-                   const SolverConstants& c = s.context.constants;
-                   PackedPoint* positionDensity = s.withLambda;  // (v, rho) is read no more
-                   forAll(s, [&](std::size_t b, std::size_t e) {
-                       stages::packPositionDensities(s.predicted, s.particles.density.data(),
-                                                     positionDensity, b, e);
-                   });
-                   forOwned(s, [&](std::size_t b, std::size_t e) {
-                       stages::applySurfaceTension(c, s.context.params.solver.wallAdhesion,
-                                                   s.solids, s.dt, s.reactions, search_,
-                                                   positionDensity, s.particles.velocity, b, e);
-                   });
-               },
-               [](const SolverStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
-    // The curvature force (equations.hpp): g, nb and kappa of the owned
-    // particles in turn from the neighbours' x* and previous field (the
-    // ghosts' come from their owners between the passes: a ghost's own
-    // neighbourhood is incomplete), then v += dt a after the cohesion.
-    const auto curvatureOn = [](const SolverStep& s) {
-        return s.context.constants.surfaceTension > 0.0f;
-    };
-    plan_.add(Part::After, {Stage::ColourGradient,
-                            [this](SolverStep& s) {
-                                const std::size_t n = s.particles.size();
-                                colourGradient_.resize(n);
-                                bandNormal_.resize(n);
-                                curvature_.resize(n);
-                                s.colourGradient = &colourGradient_;
-                                s.bandNormal = &bandNormal_;
-                                s.curvature = curvature_.data();
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::computeColourGradient(s.context.constants, search_,
-                                                                  s.predicted, *s.colourGradient, b,
-                                                                  e);
-                                });
-                            },
-                            curvatureOn});
-    plan_.add(Part::After, {Stage::BandNormal,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::computeBandNormal(s.context.constants, search_,
-                                                              s.predicted, *s.colourGradient,
-                                                              *s.bandNormal, b, e);
-                                });
-                            },
-                            curvatureOn});
-    plan_.add(Part::After, {Stage::Curvature,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::computeCurvature(s.context.constants, search_,
-                                                             s.predicted, *s.colourGradient,
-                                                             *s.bandNormal, s.curvature, b, e);
-                                });
-                            },
-                            curvatureOn});
-    plan_.add(Part::After, {Stage::CurvatureForce,
-                            [this](SolverStep& s) {
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::applyCurvatureForce(
-                                        s.context.constants, s.dt, search_, s.predicted,
-                                        *s.colourGradient, s.curvature, s.particles.velocity, b, e);
-                                });
-                            },
-                            curvatureOn});
-    plan_.add(Part::After, {Stage::BoundaryResponse, [](SolverStep& s) {
-                                const SolverParams& solver = s.context.params.solver;
-                                ParticleStore& p = s.particles;
-                                forOwned(s, [&](std::size_t b, std::size_t e) {
-                                    stages::respondToBoundaries(s.context.constants, s.solids,
-                                                                solver.restitution, solver.friction,
-                                                                s.dt, s.reactions, p.predicted,
-                                                                p.velocity, b, e);
-                                    stages::commitPositions(p.predicted, p.position, b, e);
-                                });
-                            }});
+              {Stage::ViscosityAndVorticity, overOwned<stages::applyViscosityAndComputeVorticity>,
+               whenOn(&T::viscosityPass)});
+    plan_.add(Part::After, {Stage::PhysicalViscosity, overOwned<stages::applyPhysicalViscosity>,
+                            whenOn(&T::physicalViscosity)});
+    plan_.add(Part::After, {Stage::VorticityConfinement,
+                            overOwned<stages::applyVorticityConfinement>, whenOn(&T::vorticity)});
+    plan_.add(Part::After, {Stage::SurfaceTension, surfaceTension, whenOn(&T::cohesion)});
+    plan_.add(Part::After,
+              {Stage::ColourGradient, solver(&Solver::colourGradient), whenOn(&T::curvature)});
+    plan_.add(Part::After,
+              {Stage::BandNormal, overOwned<stages::computeBandNormal>, whenOn(&T::curvature)});
+    plan_.add(Part::After,
+              {Stage::Curvature, overOwned<stages::computeCurvature>, whenOn(&T::curvature)});
+    plan_.add(Part::After, {Stage::CurvatureForce, overOwned<stages::applyCurvatureForce>,
+                            whenOn(&T::curvature)});
+    plan_.add(Part::After, {Stage::BoundaryResponse, overOwned<respondAndCommit>});
+}
+
+void Solver::sortByCell(SolverStep& s) {
+    const std::size_t n = s.particles.size();
+    ensureCapacity(n, s.terms.vorticity);
+    s.ownedBegin = 0;
+    s.ownedEnd = n;
+    s.predicted = packed_.data();
+    s.withLambda = s.velocityDensity = s.positionDensity = packedWithLambda_.data();
+    s.vorticity = &vorticity_;
+    // The lambda buffer is idle until the density pass rewrites it: the
+    // sort's scratch.
+    search_.sortByCell(s.particles.predicted, perm_,
+                       std::as_writable_bytes(std::span(packedWithLambda_)));
+}
+
+void Solver::packPositions(SolverStep& s) {
+    overAll<stages::packPositions>(s);
+    blockCompression_.resize((s.particles.size() + detail::kBlockSize - 1) / detail::kBlockSize);
+}
+
+void Solver::densityAndLambda(SolverStep& s) {
+    std::fill(blockCompression_.begin(), blockCompression_.end(), std::int64_t{0});
+    detail::parallelForRange(s.ownedBegin, s.ownedEnd, [&](std::size_t b, std::size_t e) {
+        blockCompression_[b / detail::kBlockSize] = stages::computeDensityAndLambda(s, b, e);
+    });
+}
+
+void Solver::compressionTotals(SolverStep& s) {
+    s.compression[0] = 0;
+    s.compression[1] = std::int64_t(s.ownedEnd - s.ownedBegin);
+    for (const std::int64_t block : blockCompression_) s.compression[0] += block;
+}
+
+void Solver::colourGradient(SolverStep& s) {
+    const std::size_t n = s.particles.size();
+    colourGradient_.resize(n);
+    bandNormal_.resize(n);
+    curvature_.resize(n);
+    s.colourGradient = &colourGradient_;
+    s.bandNormal = &bandNormal_;
+    s.curvature = curvature_.data();
+    overOwned<stages::computeColourGradient>(s);
 }
 
 void Solver::step(const SolverContext& context, ParticleStore& p, float dt, StageTimes& times,
                   ReactionAccumulator* reactions) {
-    SolverStep s(context, p, dt, reactions);
+    SolverStep s(context, search_, p, dt, reactions);
     plan_.run(s, times);
 }
 

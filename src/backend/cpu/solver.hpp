@@ -24,6 +24,7 @@
 #include "backend/cpu/neighbor_search.hpp"
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
+#include "backend/step_terms.hpp"
 #include "core/iteration_control.hpp"
 #include "pbf/backend/backend.hpp"
 #include "pbf/core/particles.hpp"
@@ -36,14 +37,18 @@ struct alignas(16) PackedPoint {
     float x = 0.0f, y = 0.0f, z = 0.0f, w = 0.0f;
 };
 
-// The per-step context of the CPU solver's stages: the step's constant
-// inputs, the particles, and the solver's scratch the stages pass between
-// them (and a wrapping backend's stages read: the MPI backend's exchanges).
+// The per-step context of the CPU solver's stages (solver_stages.hpp: each
+// stage is a function of this context and a range of particles): the
+// step's constant inputs and the terms they switch on, the particles, the
+// neighbour search, and the solver's scratch the stages pass between them
+// (and a wrapping backend's stages read: the MPI backend's exchanges).
 struct SolverStep : StepProgress {
-    SolverStep(const SolverContext& stepContext, ParticleStore& store, float stepDt,
-               ReactionAccumulator* stepReactions)
+    SolverStep(const SolverContext& stepContext, const NeighborSearch& stepSearch,
+               ParticleStore& store, float stepDt, ReactionAccumulator* stepReactions)
         : context(stepContext),
-          solids(stepContext.solids && !stepContext.solids->empty() ? stepContext.solids : nullptr),
+          terms(stepTerms(stepContext)),
+          solids(terms.solids ? stepContext.solids : nullptr),
+          search(stepSearch),
           particles(store),
           dt(stepDt),
           reactions(stepReactions),
@@ -52,7 +57,9 @@ struct SolverStep : StepProgress {
     }
 
     const SolverContext& context;
+    StepTerms terms;         // the optional terms this step runs
     const SolidSet* solids;  // null when there are none
+    const NeighborSearch& search;
     ParticleStore& particles;
     float dt;
     ReactionAccumulator* reactions;  // null when no solid is coupled
@@ -65,9 +72,13 @@ struct SolverStep : StepProgress {
     // the tolerance's stopping test (core/iteration_control.hpp).
     std::int64_t compression[2] = {0, 0};
     // The iterations alternate between these (Jacobi): x* -> (x*, lambda) ->
-    // corrected x*. The post-process reuses them for x* and (v, rho).
+    // corrected x*. The post-process reuses them: x* stays in `predicted`,
+    // the other buffer holds (v, rho) from the velocity update on, then
+    // (x*, rho) for surface tension (the three names are the one buffer).
     PackedPoint* predicted = nullptr;
     PackedPoint* withLambda = nullptr;
+    PackedPoint* velocityDensity = nullptr;
+    PackedPoint* positionDensity = nullptr;
     Float3Array* vorticity = nullptr;  // omega_i, only while vorticity confinement is on
     // The curvature force's fields, only while surface tension is on.
     Float3Array* colourGradient = nullptr;  // g_i
@@ -101,6 +112,13 @@ class Solver {
   private:
     void buildPlan();
     void ensureCapacity(std::size_t n, bool withVorticity);
+    // The stages that use the solver's scratch (the others are
+    // solver_stages.hpp's functions as they are).
+    void sortByCell(SolverStep& s);
+    void packPositions(SolverStep& s);
+    void densityAndLambda(SolverStep& s);
+    void compressionTotals(SolverStep& s);
+    void colourGradient(SolverStep& s);
 
     NeighborSearch search_;
     StepPlan<SolverStep> plan_;

@@ -9,9 +9,16 @@
 namespace pbf::stages {
 using boundary::clampToBox;
 
-void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Float3Array& position,
-                      Float3Array& velocity, Float3Array& predicted, std::size_t begin,
-                      std::size_t end) {
+void predictPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    // By reference, as the stage always read it: a copy lets the compiler
+    // hoist dt g out of the loop instead of fusing it into v + dt g, which
+    // changes the last bit of v.
+    const Vec3& gravity = s.context.params.gravity;
+    const float dt = s.dt;
+    const Aabb& box = s.context.constants.collisionBox;
+    const Float3Array& position = s.particles.position;
+    Float3Array& velocity = s.particles.velocity;
+    Float3Array& predicted = s.particles.predicted;
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 v = velocity.get(i) + dt * gravity;
         velocity.set(i, v);
@@ -19,9 +26,13 @@ void predictPositions(const Vec3& gravity, float dt, const Aabb& box, const Floa
     }
 }
 
-void warmStartPredictions(const SolverConstants& c, float warm, float dt,
-                          const Float3Array& solveAcceleration, const float* lastDensity,
-                          Float3Array& predicted, std::size_t begin, std::size_t end) {
+void warmStartPredictions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float warm = s.context.params.solver.warmStart;
+    const float dt = s.dt;
+    const Float3Array& solveAcceleration = s.particles.solveAcceleration;
+    const float* lastDensity = s.particles.density.data();
+    Float3Array& predicted = s.particles.predicted;
     for (std::size_t i = begin; i < end; ++i)
         predicted.set(i,
                       clampToBox(c.collisionBox,
@@ -29,9 +40,12 @@ void warmStartPredictions(const SolverConstants& c, float warm, float dt,
                                                       lastDensity[i], warm, dt)));
 }
 
-void recordSolveAcceleration(float dt, const Float3Array& position, const Float3Array& predicted,
-                             const Float3Array& velocity, Float3Array& solveAcceleration,
-                             std::size_t begin, std::size_t end) {
+void recordSolveAcceleration(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const float dt = s.dt;
+    const Float3Array& position = s.particles.position;
+    const Float3Array& predicted = s.particles.predicted;
+    const Float3Array& velocity = s.particles.velocity;
+    Float3Array& solveAcceleration = s.particles.solveAcceleration;
     for (std::size_t i = begin; i < end; ++i)
         solveAcceleration.set(i, reference::solveAcceleration(position.get(i), predicted.get(i),
                                                               velocity.get(i), dt));
@@ -42,27 +56,35 @@ void recordSolveAcceleration(float dt, const Float3Array& position, const Float3
 // outside the kernel's support, accumulate per lane, one tree sum at the end.
 // Constant factors (the kernels' coefficients) are applied once per particle.
 
-void packPositions(const Float3Array& predicted, PackedPoint* packed, std::size_t begin,
-                   std::size_t end) {
+void packPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const Float3Array& predicted = s.particles.predicted;
+    PackedPoint* packed = s.predicted;
     for (std::size_t i = begin; i < end; ++i)
         packed[i] = {predicted.x[i], predicted.y[i], predicted.z[i], 0.0f};
 }
 
-void unpackPositions(const PackedPoint* packed, Float3Array& predicted, std::size_t begin,
-                     std::size_t end) {
+void unpackPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const PackedPoint* packed = s.predicted;
+    Float3Array& predicted = s.particles.predicted;
     for (std::size_t i = begin; i < end; ++i)
         predicted.set(i, {packed[i].x, packed[i].y, packed[i].z});
 }
 
-void packPositionDensities(const PackedPoint* predicted, const float* density,
-                           PackedPoint* positionDensity, std::size_t begin, std::size_t end) {
+void packPositionDensities(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const PackedPoint* predicted = s.predicted;
+    const float* density = s.particles.density.data();
+    PackedPoint* positionDensity = s.positionDensity;
     for (std::size_t i = begin; i < end; ++i)
         positionDensity[i] = {predicted[i].x, predicted[i].y, predicted[i].z, density[i]};
 }
 
-void updateVelocity(float inverseDt, const Float3Array& position, const Float3Array& predicted,
-                    const float* density, Float3Array& velocity, PackedPoint* velocityDensity,
-                    std::size_t begin, std::size_t end) {
+void updateVelocity(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const float inverseDt = 1.0f / s.dt;
+    const Float3Array& position = s.particles.position;
+    const Float3Array& predicted = s.particles.predicted;
+    const float* density = s.particles.density.data();
+    Float3Array& velocity = s.particles.velocity;
+    PackedPoint* velocityDensity = s.velocityDensity;
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 v = (predicted.get(i) - position.get(i)) * inverseDt;
         velocity.set(i, v);
@@ -70,10 +92,15 @@ void updateVelocity(float inverseDt, const Float3Array& position, const Float3Ar
     }
 }
 
-void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon, float dt,
-                               const NeighborSearch& search, const Float3Array& predicted,
-                               const Float3Array& vorticity, const float* density,
-                               Float3Array& velocity, std::size_t begin, std::size_t end) {
+void applyVorticityConfinement(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float vorticityEpsilon = s.context.params.fluid.vorticity;
+    const float dt = s.dt;
+    const NeighborSearch& search = s.search;
+    const Float3Array& predicted = s.particles.predicted;
+    const Float3Array& vorticity = *s.vorticity;
+    const float* density = s.particles.density.data();
+    Float3Array& velocity = s.particles.velocity;
     for (std::size_t i = begin; i < end; ++i) {
         Vec3 v = velocity.get(i);
         {
@@ -100,10 +127,14 @@ void applyVorticityConfinement(const SolverConstants& c, float vorticityEpsilon,
     }
 }
 
-void applyPhysicalViscosity(const SolverConstants& c, float nu, float dt,
-                            const NeighborSearch& search, const PackedPoint* predicted,
-                            const PackedPoint* velocityDensity, Float3Array& velocity,
-                            std::size_t begin, std::size_t end) {
+void applyPhysicalViscosity(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float nu = s.context.params.fluid.kinematicViscosity;
+    const float dt = s.dt;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const PackedPoint* velocityDensity = s.velocityDensity;
+    Float3Array& velocity = s.particles.velocity;
     const auto position = [&](std::uint32_t j) {
         return Vec3{predicted[j].x, predicted[j].y, predicted[j].z};
     };
@@ -146,9 +177,12 @@ void applyPhysicalViscosity(const SolverConstants& c, float nu, float dt,
     }
 }
 
-void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
-                            ReactionAccumulator* reactions, const Float3Array& position,
-                            Float3Array& predicted, std::size_t begin, std::size_t end) {
+void resolveSolidCollisions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const SolidSet& solids = *s.solids;
+    ReactionAccumulator* reactions = s.reactions;
+    const Float3Array& position = s.particles.position;
+    Float3Array& predicted = s.particles.predicted;
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 before = predicted.get(i);
         std::size_t touched = boundary::kNoSolid;
@@ -159,10 +193,15 @@ void resolveSolidCollisions(const SolverConstants& c, const SolidSet& solids,
     }
 }
 
-void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float restitution,
-                         float friction, float dt, ReactionAccumulator* reactions,
-                         const Float3Array& predicted, Float3Array& velocity, std::size_t begin,
-                         std::size_t end) {
+void respondToBoundaries(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const SolidSet* solids = s.solids;
+    const float restitution = s.context.params.solver.restitution;
+    const float friction = s.context.params.solver.friction;
+    const float dt = s.dt;
+    ReactionAccumulator* reactions = s.reactions;
+    const Float3Array& predicted = s.particles.predicted;
+    Float3Array& velocity = s.particles.velocity;
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 x = predicted.get(i);
         Vec3 v =
@@ -178,8 +217,9 @@ void respondToBoundaries(const SolverConstants& c, const SolidSet* solids, float
     }
 }
 
-void commitPositions(const Float3Array& predicted, Float3Array& position, std::size_t begin,
-                     std::size_t end) {
+void commitPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const Float3Array& predicted = s.particles.predicted;
+    Float3Array& position = s.particles.position;
     std::copy(predicted.x.begin() + begin, predicted.x.begin() + end, position.x.begin() + begin);
     std::copy(predicted.y.begin() + begin, predicted.y.begin() + end, position.y.begin() + begin);
     std::copy(predicted.z.begin() + begin, predicted.z.begin() + end, position.z.begin() + begin);

@@ -96,10 +96,15 @@ struct CohesionParticle {
     }
 };
 
-void SurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids, float dt,
-                    ReactionAccumulator* reactions, const NeighborSearch& search,
-                    const PackedPoint* positionDensity, Float3Array& velocity, std::size_t begin,
-                    std::size_t end) {
+void SurfaceTension(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const float wallAdhesion = s.context.params.solver.wallAdhesion;
+    const SolidSet* solids = s.solids;
+    const float dt = s.dt;
+    ReactionAccumulator* reactions = s.reactions;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* positionDensity = s.positionDensity;
+    Float3Array& velocity = s.particles.velocity;
     const FloatTag d;
     forEachListBlock(search, begin, end,
                      [&](std::size_t first, std::size_t last, const NeighborList& block) {
@@ -133,12 +138,8 @@ namespace pbf::stages {
 
 HWY_EXPORT(SurfaceTension);
 
-void applySurfaceTension(const SolverConstants& c, float wallAdhesion, const SolidSet* solids,
-                         float dt, ReactionAccumulator* reactions, const NeighborSearch& search,
-                         const PackedPoint* positionDensity, Float3Array& velocity,
-                         std::size_t begin, std::size_t end) {
-    HWY_DYNAMIC_DISPATCH(SurfaceTension)
-    (c, wallAdhesion, solids, dt, reactions, search, positionDensity, velocity, begin, end);
+void applySurfaceTension(const SolverStep& s, std::size_t begin, std::size_t end) {
+    HWY_DYNAMIC_DISPATCH(SurfaceTension)(s, begin, end);
 }
 
 }  // namespace pbf::stages

@@ -69,6 +69,7 @@
 #include "backend/gpu/device_step_arrays.hpp"
 #include "backend/reactions.hpp"
 #include "backend/step_plan.hpp"
+#include "backend/step_terms.hpp"
 #include "geometry/boundary_scale.hpp"
 #include "pbf/core/particle_fields.hpp"
 #include "pbf/core/particles.hpp"
@@ -222,7 +223,7 @@ class DeviceSolidStore {
     // parameters are sampled `spacing` apart with `margin` around them.
     SolidsArgument update(const SolidSet* solids, float spacing, float margin) {
         SolidsArgument argument;
-        if (!solids || solids->empty()) return argument;
+        if (!presentSolids(solids)) return argument;
         const std::size_t count = solids->size();
         uploadShapes(*solids, spacing, margin);
         uploadScales(*solids);
@@ -363,10 +364,14 @@ inline double millisecondsSince(Clock::time_point start) {
 // The per-step context of the device's stages (backend/step_plan.hpp).
 struct DeviceStep : StepProgress {
     DeviceStep(const SolverContext& stepContext, float stepDt)
-        : context(stepContext), dt(stepDt), control(stepContext.params.solver) {
+        : context(stepContext),
+          terms(stepTerms(stepContext)),
+          dt(stepDt),
+          control(stepContext.params.solver) {
         maxIterations = control.maxIterations();
     }
     const SolverContext& context;
+    StepTerms terms;  // the optional terms this step runs
     float dt;
     IterationControl control;
     SolidsArgument solids;         // the device's solids (present: any)
@@ -457,7 +462,7 @@ class DeviceBackend final : public Backend {
         ThreadScope threads;
         DeviceStep s(context, dt);
         s.solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
-        prepare(context.params, s.solids, context.solids);
+        prepare(s.terms, s.solids, context.solids);
         plan_.run(s, times_);
         finishReactions(context, dt);
         searchValid_ = true;
@@ -531,7 +536,8 @@ class DeviceBackend final : public Backend {
         upload(std::move(state));
         const std::size_t n = p_.size();
         const SolidsArgument solids = solids_.update(context.solids, sampleSpacing_, sampleMargin_);
-        prepare(context.params, solids, context.solids);
+        const StepTerms terms = stepTerms(context);
+        prepare(terms, solids, context.solids);
         sortByCell();
         reorder();
         buildNeighborLists();
@@ -590,7 +596,8 @@ class DeviceBackend final : public Backend {
             thrust::copy(p_.velocity.y.begin(), p_.velocity.y.end(), to.y.begin());
             thrust::copy(p_.velocity.z.begin(), p_.velocity.z.end(), to.z.begin());
         };
-        if (const float nu = context.params.fluid.kinematicViscosity; nu > 0.0f) {
+        if (terms.physicalViscosity) {
+            const float nu = context.params.fluid.kinematicViscosity;
             copyVelocity(corrected_);
             forEachIndex(n, PhysicalViscosityKernel{c,
                                                     nu,
@@ -695,19 +702,17 @@ class DeviceBackend final : public Backend {
 
     // Sizes the step's scratch for n particles and these settings (no
     // allocation once the count and settings stop changing).
-    void prepare(const SimulationParams& params, const SolidsArgument& solids,
-                 const SolidSet* hostSolids) {
+    void prepare(const StepTerms& terms, const SolidsArgument& solids, const SolidSet* hostSolids) {
         const std::size_t n = p_.size();
-        const bool warm = params.solver.warmStart > 0.0f;
         // The last substep's acceleration follows the particles while the
         // warm start is on (zero for new ones), and is dropped when it is off.
-        setOptionalField(ParticleField::solveAcceleration, warm);
+        setOptionalField(ParticleField::solveAcceleration, terms.warmStart);
         keys_.resize(n);
         order_.resize(n);
         reactionsActive_ = solids.present && hostSolids->anyCoupled();
         // The step arrays these settings use (device_step_arrays.hpp).
-#define PBF_SIZE_STEP_ARRAY(name, type, components, use)                        \
-    if (stepArrayInUse(StepArrayUse::use, params, reactionsActive_)) name##_.resize(n);
+#define PBF_SIZE_STEP_ARRAY(name, type, components, use) \
+    if (stepArrayInUse(StepArrayUse::use, terms, reactionsActive_)) name##_.resize(n);
         PBF_DEVICE_STEP_ARRAYS(PBF_SIZE_STEP_ARRAY)
 #undef PBF_SIZE_STEP_ARRAY
         if (reactionsActive_) {
@@ -771,221 +776,191 @@ class DeviceBackend final : public Backend {
     }
 
     // The stages of a step (backend/step_plan.hpp: the CPU solver's names
-    // and StageTimes accounting), each one or two kernels over all
-    // particles. No neighbour lists: the kernels walk the sorted grid.
+    // and StageTimes accounting) in Alg. 1's order: {stage, the member
+    // function that runs its kernels over all particles, the term that
+    // switches it on (none: always)}. No neighbour lists of the CPU's
+    // blocks: the kernels walk the sorted grid's lists.
     void buildPlan() {
         using Part = StepPlan<DeviceStep>::Part;
-        const auto warmStartOn = [](const DeviceStep& s) {
-            return s.context.params.solver.warmStart > 0.0f;
+        using T = StepTerms;
+        using B = DeviceBackend;
+        const auto run = [this](void (DeviceBackend::*stage)(DeviceStep&)) {
+            return [this, stage](DeviceStep& s) { (this->*stage)(s); };
         };
-        const auto vorticityOn = [](const DeviceStep& s) {
-            return s.context.params.fluid.vorticity > 0.0f;
-        };
-        const auto xsphOn = [vorticityOn](const DeviceStep& s) {
-            return s.context.params.fluid.viscosity > 0.0f || vorticityOn(s);
-        };
-        const auto physicalViscosityOn = [](const DeviceStep& s) {
-            return s.context.params.fluid.kinematicViscosity > 0.0f;
-        };
-        const auto solidsOn = [](const DeviceStep& s) { return s.solids.present; };
-        const auto errorControlled = [](const DeviceStep& s) {
-            return s.control.errorControlled();
-        };
-
         // Alg. 1 l. 1-7: prediction, collisions, the sorted grid.
-        plan_.add(Part::Before,
-                  {Stage::Predict, [this](DeviceStep& s) {
-                       forEachIndex(p_.size(), PredictKernel{s.context.constants.collisionBox,
-                                                             s.context.params.gravity, s.dt,
-                                                             p_.position.view(), p_.velocity.view(),
-                                                             p_.predicted.view()});
-                   }});
-        plan_.add(Part::Before,
-                  {Stage::WarmStart,
-                   [this](DeviceStep& s) {
-                       forEachIndex(
-                           p_.size(),
-                           WarmStartKernel{s.context.constants, s.context.params.solver.warmStart,
-                                           s.dt, p_.predicted.view(), p_.solveAcceleration.view(),
-                                           raw(p_.density)});
-                   },
-                   warmStartOn});
-        // Its reaction records are folded before the reorder: the blocks of
-        // the particles' old order, as on the CPU.
-        plan_.add(Part::Before,
-                  {Stage::CollideSolids,
-                   [this](DeviceStep& s) {
-                       forEachIndex(
-                           p_.size(),
-                           CollideSolidsKernel{s.context.constants, s.solids.solids,
-                                               p_.position.view(), p_.predicted.view(), slot(0)});
-                       foldReactions(1);
-                   },
-                   solidsOn});
+        plan_.add(Part::Before, {Stage::Predict, run(&B::predict)});
+        plan_.add(Part::Before, {Stage::WarmStart, run(&B::warmStart), whenOn(&T::warmStart)});
+        plan_.add(Part::Before, {Stage::CollideSolids, run(&B::collideSolids), whenOn(&T::solids)});
         plan_.add(Part::Before, {Stage::SortByCell, [this](DeviceStep&) { sortByCell(); }});
         plan_.add(Part::Before, {Stage::Reorder, [this](DeviceStep&) { reorder(); }});
-        plan_.add(Part::Before, {Stage::NeighborLists, [this](DeviceStep& s) {
-                                     buildNeighborLists();
-                                     s.search = neighborLists();
-                                 }});
-
+        plan_.add(Part::Before, {Stage::NeighborLists, run(&B::neighborListsStage)});
         // Alg. 1 l. 8-19: one density iteration (Jacobi), as the reference.
-        plan_.add(Part::Iteration,
-                  {Stage::DensityAndLambda, [this](DeviceStep& s) {
-                       forEachIndex(p_.size(), DensityLambdaKernel{s.context.constants, s.solids,
-                                                                   s.search, p_.predicted.view(),
-                                                                   raw(p_.density), raw(lambda_)});
-                   }});
-        // The tolerance's test (core/iteration_control.hpp): the compression
-        // summed in fixed point, exact in any order.
-        plan_.add(Part::Iteration, {Stage::CompressionTotals,
-                                    [this](DeviceStep& s) {
-                                        const std::size_t n = p_.size();
-                                        s.compression = thrust::transform_reduce(
-                                            thrust::device(scratch_), indices(),
-                                            indices(std::uint32_t(n)),
-                                            CompressionOf{s.context.constants, raw(p_.density)},
-                                            std::int64_t{0}, thrust::plus<std::int64_t>());
-                                    },
-                                    errorControlled});
-        plan_.add(Part::Iteration, {Stage::ConvergenceCheck,
-                                    [this](DeviceStep& s) {
-                                        s.stopIterations = s.control.converged(
-                                            s.corrections,
-                                            averageCompression(s.compression, p_.size()));
-                                    },
-                                    errorControlled});
-        plan_.add(Part::Iteration, {Stage::CorrectPositions, [this](DeviceStep& s) {
-                                        CorrectionKernel k;
-                                        k.c = s.context.constants;
-                                        k.solids = s.solids;
-                                        k.search = s.search;
-                                        k.position = p_.position.view();
-                                        k.predicted = p_.predicted.view();
-                                        k.corrected = corrected_.view();
-                                        k.lambda = {raw(lambda_)};
-                                        k.boundaryTerm = slot(0);
-                                        k.projection = slot(1);
-                                        forEachIndex(p_.size(), k);
-                                        foldReactions(2);
-                                        p_.predicted.x.swap(corrected_.x);
-                                        p_.predicted.y.swap(corrected_.y);
-                                        p_.predicted.z.swap(corrected_.z);
-                                    }});
-
+        plan_.add(Part::Iteration, {Stage::DensityAndLambda, run(&B::densityAndLambda)});
+        plan_.add(Part::Iteration, {Stage::CompressionTotals, run(&B::compressionTotals),
+                                    whenOn(&T::errorControlled)});
+        plan_.add(Part::Iteration, {Stage::ConvergenceCheck, run(&B::convergenceCheck),
+                                    whenOn(&T::errorControlled)});
+        plan_.add(Part::Iteration, {Stage::CorrectPositions, run(&B::correctPositions)});
         // Alg. 1 l. 20-24: velocities, post-process, commit.
-        plan_.add(Part::After, {Stage::RecordSolveAcceleration,
-                                [this](DeviceStep& s) {
-                                    forEachIndex(
-                                        p_.size(),
-                                        RecordSolveAccelerationKernel{
-                                            s.dt, p_.position.view(), p_.predicted.view(),
-                                            p_.velocity.view(), p_.solveAcceleration.view()});
-                                },
-                                warmStartOn});
+        plan_.add(Part::After, {Stage::RecordSolveAcceleration, run(&B::recordSolveAcceleration),
+                                whenOn(&T::warmStart)});
+        plan_.add(Part::After, {Stage::UpdateVelocity, run(&B::updateVelocity)});
+        plan_.add(Part::After, {Stage::ViscosityAndVorticity, run(&B::viscosityAndVorticity),
+                                whenOn(&T::viscosityPass)});
+        plan_.add(Part::After, {Stage::PhysicalViscosity, run(&B::physicalViscosity),
+                                whenOn(&T::physicalViscosity)});
+        plan_.add(Part::After, {Stage::VorticityConfinement, run(&B::vorticityConfinement),
+                                whenOn(&T::vorticity)});
         plan_.add(Part::After,
-                  {Stage::UpdateVelocity, [this](DeviceStep& s) {
-                       forEachIndex(p_.size(),
-                                    UpdateVelocityKernel{s.dt, p_.position.view(),
-                                                         p_.predicted.view(), p_.velocity.view()});
-                   }});
-        // XSPH and the vorticity read the velocities above and the last
-        // density pass's densities (Jacobi: XSPH's output goes to post_,
-        // then becomes v); confinement then adds to each particle's own v.
+                  {Stage::SurfaceTension, run(&B::surfaceTension), whenOn(&T::cohesion)});
         plan_.add(Part::After,
-                  {Stage::ViscosityAndVorticity,
-                   [this, vorticityOn](DeviceStep& s) {
-                       const Float3View omega = vorticityOn(s) ? vorticity_.view() : Float3View{};
-                       forEachIndex(p_.size(), XsphVorticityKernel{s.context.constants,
-                                                                   s.context.params.fluid.viscosity,
-                                                                   s.search,
-                                                                   p_.predicted.view(),
-                                                                   p_.velocity.view(),
-                                                                   post_.view(),
-                                                                   omega,
-                                                                   {raw(p_.density)}});
-                       p_.velocity.x.swap(post_.x);
-                       p_.velocity.y.swap(post_.y);
-                       p_.velocity.z.swap(post_.z);
-                   },
-                   xsphOn});
-        // The physical viscosity (fluid.kinematic_viscosity) reads the
-        // velocities XSPH read (post_ after XSPH's swap; a copy when XSPH is
-        // off) and adds dt a to XSPH's result, as the CPU stage does.
-        plan_.add(Part::After, {Stage::PhysicalViscosity,
-                                [this, xsphOn](DeviceStep& s) {
-                                    if (!xsphOn(s)) {
-                                        thrust::copy(thrust::device, p_.velocity.x.begin(),
-                                                     p_.velocity.x.end(), post_.x.begin());
-                                        thrust::copy(thrust::device, p_.velocity.y.begin(),
-                                                     p_.velocity.y.end(), post_.y.begin());
-                                        thrust::copy(thrust::device, p_.velocity.z.begin(),
-                                                     p_.velocity.z.end(), post_.z.begin());
-                                    }
-                                    forEachIndex(p_.size(),
-                                                 PhysicalViscosityKernel{
-                                                     s.context.constants,
-                                                     s.context.params.fluid.kinematicViscosity,
+                  {Stage::CurvatureForce, run(&B::curvatureForce), whenOn(&T::curvature)});
+        plan_.add(Part::After, {Stage::BoundaryResponse, run(&B::respondAndCommit)});
+    }
+
+    // The plan's stages (buildPlan), one or two kernels each.
+    void predict(DeviceStep& s) {
+        forEachIndex(p_.size(),
+                     PredictKernel{s.context.constants.collisionBox, s.context.params.gravity, s.dt,
+                                   p_.position.view(), p_.velocity.view(), p_.predicted.view()});
+    }
+    void warmStart(DeviceStep& s) {
+        forEachIndex(
+            p_.size(),
+            WarmStartKernel{s.context.constants, s.context.params.solver.warmStart, s.dt,
+                            p_.predicted.view(), p_.solveAcceleration.view(), raw(p_.density)});
+    }
+    // Its reaction records are folded before the reorder: the blocks of
+    // the particles' old order, as on the CPU.
+    void collideSolids(DeviceStep& s) {
+        forEachIndex(p_.size(),
+                     CollideSolidsKernel{s.context.constants, s.solids.solids, p_.position.view(),
+                                         p_.predicted.view(), slot(0)});
+        foldReactions(1);
+    }
+    void neighborListsStage(DeviceStep& s) {
+        buildNeighborLists();
+        s.search = neighborLists();
+    }
+    void densityAndLambda(DeviceStep& s) {
+        forEachIndex(p_.size(),
+                     DensityLambdaKernel{s.context.constants, s.solids, s.search,
+                                         p_.predicted.view(), raw(p_.density), raw(lambda_)});
+    }
+    // The tolerance's test (core/iteration_control.hpp): the compression
+    // summed in fixed point, exact in any order.
+    void compressionTotals(DeviceStep& s) {
+        const std::size_t n = p_.size();
+        s.compression =
+            thrust::transform_reduce(thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+                                     CompressionOf{s.context.constants, raw(p_.density)},
+                                     std::int64_t{0}, thrust::plus<std::int64_t>());
+    }
+    void convergenceCheck(DeviceStep& s) {
+        s.stopIterations =
+            s.control.converged(s.corrections, averageCompression(s.compression, p_.size()));
+    }
+    void correctPositions(DeviceStep& s) {
+        CorrectionKernel k;
+        k.c = s.context.constants;
+        k.solids = s.solids;
+        k.search = s.search;
+        k.position = p_.position.view();
+        k.predicted = p_.predicted.view();
+        k.corrected = corrected_.view();
+        k.lambda = {raw(lambda_)};
+        k.boundaryTerm = slot(0);
+        k.projection = slot(1);
+        forEachIndex(p_.size(), k);
+        foldReactions(2);
+        p_.predicted.x.swap(corrected_.x);
+        p_.predicted.y.swap(corrected_.y);
+        p_.predicted.z.swap(corrected_.z);
+    }
+    void recordSolveAcceleration(DeviceStep& s) {
+        forEachIndex(p_.size(), RecordSolveAccelerationKernel{
+                                    s.dt, p_.position.view(), p_.predicted.view(),
+                                    p_.velocity.view(), p_.solveAcceleration.view()});
+    }
+    void updateVelocity(DeviceStep& s) {
+        forEachIndex(p_.size(), UpdateVelocityKernel{s.dt, p_.position.view(), p_.predicted.view(),
+                                                     p_.velocity.view()});
+    }
+    // XSPH and the vorticity read the velocities above and the last
+    // density pass's densities (Jacobi: XSPH's output goes to post_,
+    // then becomes v); confinement then adds to each particle's own v.
+    void viscosityAndVorticity(DeviceStep& s) {
+        const Float3View omega = s.terms.vorticity ? vorticity_.view() : Float3View{};
+        forEachIndex(p_.size(), XsphVorticityKernel{s.context.constants,
+                                                    s.context.params.fluid.viscosity,
+                                                    s.search,
+                                                    p_.predicted.view(),
+                                                    p_.velocity.view(),
+                                                    post_.view(),
+                                                    omega,
+                                                    {raw(p_.density)}});
+        p_.velocity.x.swap(post_.x);
+        p_.velocity.y.swap(post_.y);
+        p_.velocity.z.swap(post_.z);
+    }
+    // The physical viscosity (fluid.kinematic_viscosity) reads the
+    // velocities XSPH read (post_ after XSPH's swap; a copy when XSPH is
+    // off) and adds dt a to XSPH's result, as the CPU stage does.
+    void physicalViscosity(DeviceStep& s) {
+        if (!s.terms.viscosityPass()) {
+            thrust::copy(thrust::device, p_.velocity.x.begin(), p_.velocity.x.end(),
+                         post_.x.begin());
+            thrust::copy(thrust::device, p_.velocity.y.begin(), p_.velocity.y.end(),
+                         post_.y.begin());
+            thrust::copy(thrust::device, p_.velocity.z.begin(), p_.velocity.z.end(),
+                         post_.z.begin());
+        }
+        forEachIndex(p_.size(), PhysicalViscosityKernel{s.context.constants,
+                                                        s.context.params.fluid.kinematicViscosity,
+                                                        s.dt,
+                                                        s.search,
+                                                        p_.predicted.view(),
+                                                        post_.view(),
+                                                        p_.velocity.view(),
+                                                        {raw(p_.density)}});
+    }
+    void vorticityConfinement(DeviceStep& s) {
+        forEachIndex(p_.size(), ConfinementKernel{s.context.constants,
+                                                  s.context.params.fluid.vorticity,
+                                                  s.dt,
+                                                  s.search,
+                                                  p_.predicted.view(),
+                                                  vorticity_.view(),
+                                                  p_.velocity.view(),
+                                                  {raw(p_.density)}});
+    }
+    // Surface tension: cohesion and adhesion at x*, v += dt a; a coupled
+    // solid's pull is folded into its reaction (as the CPU's
+    // ReactionAccumulator records it, between confinement and the response).
+    void surfaceTension(DeviceStep& s) {
+        forEachIndex(p_.size(), SurfaceTensionKernel{s.context.constants,
+                                                     s.context.params.solver.wallAdhesion,
                                                      s.dt,
+                                                     s.solids,
                                                      s.search,
                                                      p_.predicted.view(),
-                                                     post_.view(),
                                                      p_.velocity.view(),
-                                                     {raw(p_.density)}});
-                                },
-                                physicalViscosityOn});
-        plan_.add(Part::After, {Stage::VorticityConfinement,
-                                [this](DeviceStep& s) {
-                                    forEachIndex(p_.size(),
-                                                 ConfinementKernel{s.context.constants,
-                                                                   s.context.params.fluid.vorticity,
-                                                                   s.dt,
-                                                                   s.search,
-                                                                   p_.predicted.view(),
-                                                                   vorticity_.view(),
-                                                                   p_.velocity.view(),
-                                                                   {raw(p_.density)}});
-                                },
-                                vorticityOn});
-        // Surface tension: cohesion and adhesion at x*, v += dt a;
-        // a coupled solid's pull is folded into its reaction (as the CPU's
-        // ReactionAccumulator records it, between confinement and the response).
-        plan_.add(Part::After,
-                  {Stage::SurfaceTension,
-                   [this](DeviceStep& s) {
-                       forEachIndex(p_.size(),
-                                    SurfaceTensionKernel{s.context.constants,
-                                                         s.context.params.solver.wallAdhesion,
-                                                         s.dt,
-                                                         s.solids,
-                                                         s.search,
-                                                         p_.predicted.view(),
-                                                         p_.velocity.view(),
-                                                         {raw(p_.density)},
-                                                         slot(0)});
-                       foldReactions(1);
-                   },
-                   [](const DeviceStep& s) { return s.context.constants.cohesionScale > 0.0f; }});
-        // The curvature force: g, nb and kappa of every particle in turn,
-        // then v += dt a.
-        plan_.add(Part::After, {Stage::CurvatureForce,
-                                [this](DeviceStep& s) {
-                                    runCurvatureForce(s.context.constants, s.dt, s.search,
-                                                      p_.velocity.view());
-                                },
-                                [](const DeviceStep& s) {
-                                    return s.context.constants.surfaceTension > 0.0f;
-                                }});
-        plan_.add(Part::After,
-                  {Stage::BoundaryResponse, [this](DeviceStep& s) {
-                       const SolverParams& solver = s.context.params.solver;
-                       forEachIndex(
-                           p_.size(),
-                           RespondCommitKernel{s.context.constants, solver.restitution,
-                                               solver.friction, s.dt, s.solids, p_.predicted.view(),
-                                               p_.velocity.view(), p_.position.view(), slot(0)});
-                       foldReactions(1);
-                   }});
+                                                     {raw(p_.density)},
+                                                     slot(0)});
+        foldReactions(1);
+    }
+    // The curvature force: g, nb and kappa of every particle in turn, then
+    // v += dt a.
+    void curvatureForce(DeviceStep& s) {
+        runCurvatureForce(s.context.constants, s.dt, s.search, p_.velocity.view());
+    }
+    void respondAndCommit(DeviceStep& s) {
+        const SolverParams& solver = s.context.params.solver;
+        forEachIndex(p_.size(),
+                     RespondCommitKernel{s.context.constants, solver.restitution, solver.friction,
+                                         s.dt, s.solids, p_.predicted.view(), p_.velocity.view(),
+                                         p_.position.view(), slot(0)});
+        foldReactions(1);
     }
 
     // Cell keys of x*, the stable sort by cell key (ties keep their order,

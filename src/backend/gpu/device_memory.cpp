@@ -13,11 +13,12 @@
 namespace pbf::gpu {
 
 std::size_t particleArrayBytes(const SimulationParams& params, bool coupledSolids) {
+    const StepTerms terms = stepTerms(params, SolverConstants::from(params), false);
     std::size_t bytes = 0;
     // The particle fields; an optional one only while its feature is on.
     const auto fieldInUse = [&](ParticleField field, ParticleFieldKind kind) {
         if (kind != ParticleFieldKind::Optional) return true;
-        if (field == ParticleField::solveAcceleration) return params.solver.warmStart > 0.0f;
+        if (field == ParticleField::solveAcceleration) return terms.warmStart;
         return true;  // a field added to the list: counted
     };
 #define PBF_FIELD_BYTES(name, type, components, unit, kind, description) \
@@ -26,8 +27,8 @@ std::size_t particleArrayBytes(const SimulationParams& params, bool coupledSolid
     PBF_PARTICLE_FIELDS(PBF_FIELD_BYTES)
 #undef PBF_FIELD_BYTES
     // The step arrays the settings need.
-#define PBF_STEP_ARRAY_BYTES(name, type, components, use)         \
-    if (stepArrayInUse(StepArrayUse::use, params, coupledSolids)) \
+#define PBF_STEP_ARRAY_BYTES(name, type, components, use)        \
+    if (stepArrayInUse(StepArrayUse::use, terms, coupledSolids)) \
         bytes += std::size_t{components} * sizeof(type);
     PBF_DEVICE_STEP_ARRAYS(PBF_STEP_ARRAY_BYTES)
 #undef PBF_STEP_ARRAY_BYTES

@@ -14,7 +14,7 @@
 
 #include <cstdint>
 
-#include "pbf/core/params.hpp"
+#include "backend/step_terms.hpp"
 
 #define PBF_DEVICE_STEP_ARRAYS(X)                                                                  \
     X(corrected, float, 3, Always)                     /* the correction pass's output (Jacobi) */ \
@@ -37,21 +37,20 @@ enum class StepArrayUse {
     Always,
     PostProcess,     // XSPH, vorticity confinement or the physical viscosity on
     Vorticity,       // vorticity confinement on
-    SurfaceTension,  // fluid.surface_tension > 0
+    SurfaceTension,  // the curvature force on (fluid.surface_tension > 0)
     CoupledSolids,   // a solid that takes the fluid's reaction (a rigid body)
 };
 
-inline bool stepArrayInUse(StepArrayUse use, const SimulationParams& params, bool coupledSolids) {
+inline bool stepArrayInUse(StepArrayUse use, const StepTerms& terms, bool coupledSolids) {
     switch (use) {
         case StepArrayUse::Always:
             return true;
         case StepArrayUse::PostProcess:
-            return params.fluid.viscosity > 0.0f || params.fluid.vorticity > 0.0f ||
-                   params.fluid.kinematicViscosity > 0.0f;
+            return terms.velocityPostProcess();
         case StepArrayUse::Vorticity:
-            return params.fluid.vorticity > 0.0f;
+            return terms.vorticity;
         case StepArrayUse::SurfaceTension:
-            return params.fluid.surfaceTension > 0.0f;
+            return terms.curvature;
         case StepArrayUse::CoupledSolids:
             return coupledSolids;
     }

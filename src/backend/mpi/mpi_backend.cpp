@@ -275,21 +275,19 @@ class MpiBackend final : public Backend {
         plan.insertAfter(
             Stage::CompressionTotals,
             {Stage::SumCompression, [this](SolverStep& s) { halo_.sum(s.compression, 2); },
-             [](const SolverStep& s) { return s.control.errorControlled(); }});
+             whenOn(&StepTerms::errorControlled)});
         plan.insertAfter(Stage::CorrectPositions, {Stage::ExchangePositions, [this](SolverStep& s) {
                                                        halo_.exchange(s.predicted);
                                                    }});
         plan.insertAfter(
             Stage::ViscosityAndVorticity,
             {Stage::ExchangeVorticity, [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
-             [](const SolverStep& s) { return s.context.params.fluid.vorticity > 0.0f; }});
+             whenOn(&StepTerms::vorticity)});
         // The curvature force: each field of the owned particles, then the
         // ghosts' from their owners before the next pass reads them (a
         // ghost's neighbours beyond the halo are missing: its own would be
         // wrong).
-        const auto curvatureOn = [](const SolverStep& s) {
-            return s.context.constants.surfaceTension > 0.0f;
-        };
+        const auto curvatureOn = whenOn(&StepTerms::curvature);
         plan.insertAfter(Stage::ColourGradient,
                          {Stage::ExchangeColourGradient,
                           [this](SolverStep& s) { halo_.exchange(*s.colourGradient); },

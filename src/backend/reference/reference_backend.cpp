@@ -84,11 +84,16 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     const auto stepStart = Clock::now();
     times_ = {};
     load();
-    const SolidSet* solids = context.solids && !context.solids->empty() ? context.solids : nullptr;
+    const StepTerms terms = stepTerms(context);
+    const SolidSet* solids = terms.solids ? context.solids : nullptr;
     // Two-way coupling (backend/reactions.hpp): every move a coupled solid's
     // boundary gives a particle is recorded; its reaction acts on the body.
     reactions_.reset(store_.size(), solids);
-    const Step s{context.params, context.constants, solids, dt,
+    const Step s{context.params,
+                 context.constants,
+                 terms,
+                 solids,
+                 dt,
                  reactions_.active() ? &reactions_ : nullptr};
 
     auto t = Clock::now();
@@ -117,28 +122,23 @@ void ReferenceBackend::step(const SolverContext& context, float dt) {
     times_.solve = millisecondsSince(t);
 
     t = Clock::now();
-    const FluidParams& fluid = s.params.fluid;
-    if (s.params.solver.warmStart > 0.0f) recordSolveAcceleration(s);
+    if (terms.warmStart) recordSolveAcceleration(s);
     updateVelocity(s);
-    if (smoothsVelocities(fluid)) viscosityAndVorticity(s);
-    if (fluid.kinematicViscosity > 0.0f) physicalViscosity(s);
-    if (fluid.vorticity > 0.0f) vorticityConfinement(s);
-    if (s.c.cohesionScale > 0.0f) surfaceTension(s);
-    if (s.c.surfaceTension > 0.0f) {
+    if (terms.viscosityPass()) viscosityAndVorticity(s);
+    if (terms.physicalViscosity) physicalViscosity(s);
+    if (terms.vorticity) vorticityConfinement(s);
+    if (terms.cohesion) surfaceTension(s);
+    if (terms.curvature) {
         colourGradient(s);
         bandNormal(s);
         curvature(s);
         curvatureForce(s);
     }
     boundaryResponse(s);
-    commit(s.params.solver.warmStart > 0.0f);
+    commit(terms.warmStart);
     reactions_.forces(s.c.particleMass, dt, lastReactions_);
     times_.postProcess = millisecondsSince(t);
     times_.total = millisecondsSince(stepStart);
-}
-
-bool ReferenceBackend::smoothsVelocities(const FluidParams& fluid) {
-    return fluid.viscosity > 0.0f || fluid.vorticity > 0.0f;
 }
 
 // Alg. 1 l. 1-4: apply gravity, predict x*, keep it in the box; the sweep
@@ -147,11 +147,12 @@ bool ReferenceBackend::smoothsVelocities(const FluidParams& fluid) {
 void ReferenceBackend::predict(const Step& s) {
     const Aabb& box = s.c.collisionBox;
     const float warm = s.params.solver.warmStart;
+    const bool warmStart = s.terms.warmStart;
     for (std::size_t i = 0; i < position_.size(); ++i) {
         velocity_[i] += s.dt * s.params.gravity;
         predictedVelocity_[i] = velocity_[i];
         predicted_[i] = boundary::clampToBox(box, position_[i] + s.dt * velocity_[i]);
-        if (warm > 0.0f)
+        if (warmStart)
             predicted_[i] = boundary::clampToBox(
                 box, reference::warmStart(s.c, predicted_[i], solveAcceleration_[i], density_[i],
                                           warm, s.dt));
@@ -228,7 +229,7 @@ void ReferenceBackend::updateVelocity(const Step& s) {
 // v; postVelocity_ keeps the velocities it read, for the physical viscosity.
 void ReferenceBackend::viscosityAndVorticity(const Step& s) {
     const FluidParams& fluid = s.params.fluid;
-    const bool withVorticity = fluid.vorticity > 0.0f;
+    const bool withVorticity = s.terms.vorticity;
     if (withVorticity) vorticity_.resize(position_.size());
     for (std::size_t i = 0; i < position_.size(); ++i) {
         const reference::NeighborIndices nbrs = grid_.neighbors(i);
@@ -243,7 +244,7 @@ void ReferenceBackend::viscosityAndVorticity(const Step& s) {
 // v += dt nu lap v, the SPH Laplacian of the velocities XSPH read (Jacobi).
 void ReferenceBackend::physicalViscosity(const Step& s) {
     const FluidParams& fluid = s.params.fluid;
-    const std::vector<Vec3>& read = smoothsVelocities(fluid) ? postVelocity_ : velocity_;
+    const std::vector<Vec3>& read = s.terms.viscosityPass() ? postVelocity_ : velocity_;
     viscosityAcceleration_.resize(position_.size());
     for (std::size_t i = 0; i < position_.size(); ++i)
         viscosityAcceleration_[i] = reference::viscosityAcceleration(

@@ -16,6 +16,7 @@
 
 #include "backend/host_backend.hpp"
 #include "backend/reference/neighbor_grid.hpp"
+#include "backend/step_terms.hpp"
 
 namespace pbf {
 
@@ -28,10 +29,12 @@ class ReferenceBackend final : public HostBackend {
     BackendDiagnostics diagnostics() const override;
 
   private:
-    // The step's constant inputs, given to every stage.
+    // The step's constant inputs and the terms they switch on, given to
+    // every stage.
     struct Step {
         const SimulationParams& params;
         const SolverConstants& c;
+        StepTerms terms;
         const SolidSet* solids;  // null when there are none
         float dt;
         ReactionAccumulator* reactions;  // null when no solid is coupled
@@ -53,8 +56,6 @@ class ReferenceBackend final : public HostBackend {
     void curvature(const Step& s);
     void curvatureForce(const Step& s);
     void boundaryResponse(const Step& s);
-    // XSPH or vorticity confinement on: viscosityAndVorticity runs.
-    static bool smoothsVelocities(const FluidParams& fluid);
 
     void load();                  // store_ -> the Vec3 arrays
     void commit(bool warmStart);  // the Vec3 arrays -> store_

@@ -55,55 +55,53 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
     p.reorder(perm);
     search.buildNeighborLists(p.predicted);
 
-    const SolidSet* solids = cloud.solids.get();
+    // The stages read their inputs from a step context over this store and
+    // search, with the test's buffers in it.
+    const SolverContext context{cloud.params, c, cloud.solids.get()};
+    SolverStep s(context, search, p, kDt, nullptr);
     std::vector<PackedPoint> predicted(n), withLambda(n), corrected(n), velocityDensity(n);
-    out.density.resize(n);
-    stages::packPositions(p.predicted, predicted.data(), 0, n);
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeDensityAndLambda(c, solids, search, predicted.data(), out.density.data(),
-                                        withLambda.data(), b, e);
-    });
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::correctPositions(c, solids, nullptr, search, p.position, withLambda.data(),
-                                 corrected.data(), b, e);
-    });
+    s.predicted = predicted.data();
+    s.withLambda = withLambda.data();
+    s.velocityDensity = velocityDensity.data();
+    stages::packPositions(s, 0, n);
+    inUnevenRanges(n,
+                   [&](std::size_t b, std::size_t e) { stages::computeDensityAndLambda(s, b, e); });
+    out.density = p.density;
+    s.predicted = corrected.data();  // the correction's output
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::correctPositions(s, b, e); });
+    s.predicted = predicted.data();
     // The post-process at the uncorrected x* (any positions do).
-    Float3Array velocity;
-    velocity.resize(n);
-    stages::updateVelocity(1.0f / kDt, p.position, p.predicted, out.density.data(), velocity,
-                           velocityDensity.data(), 0, n);
+    stages::updateVelocity(s, 0, n);
     Float3Array vorticity;
     vorticity.resize(n);
+    s.vorticity = &vorticity;
+    s.terms.vorticity = true;  // omega_i whatever the cloud's settings
     inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::applyViscosityAndComputeVorticity(c, cloud.params.fluid.viscosity, search,
-                                                  predicted.data(), velocityDensity.data(),
-                                                  &vorticity, velocity, b, e);
+        stages::applyViscosityAndComputeVorticity(s, b, e);
     });
+    for (std::size_t i = 0; i < n; ++i) out.xsphVelocity.push_back(p.velocity.get(i));
     // Surface tension at the uncorrected x*, from v = (x* - x) / dt, with the
     // density pass's densities (the reference gets the same ones).
     {
+        const SimulationParams stParams = surfaceTensionParams(cloud);
         const SolverConstants cs = surfaceTensionConstants(cloud);
-        Float3Array surfaceVelocity;
-        surfaceVelocity.resize(n);
+        const SolverContext stContext{stParams, cs, cloud.solids.get()};
+        SolverStep st(stContext, search, p, kDt, nullptr);
         std::vector<PackedPoint> positionDensity(n);
+        st.predicted = predicted.data();
+        st.positionDensity = positionDensity.data();
         for (std::size_t i = 0; i < n; ++i)
-            surfaceVelocity.set(i,
-                                {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
-        stages::packPositionDensities(predicted.data(), out.density.data(), positionDensity.data(),
-                                      0, n);
-        inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-            stages::applySurfaceTension(cs, kStageWallAdhesion, solids, kDt, nullptr, search,
-                                        positionDensity.data(), surfaceVelocity, b, e);
-        });
-        for (std::size_t i = 0; i < n; ++i)
-            out.surfaceTensionVelocity.push_back(surfaceVelocity.get(i));
+            p.velocity.set(i, {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
+        stages::packPositionDensities(st, 0, n);
+        inUnevenRanges(
+            n, [&](std::size_t b, std::size_t e) { stages::applySurfaceTension(st, b, e); });
+        for (std::size_t i = 0; i < n; ++i) out.surfaceTensionVelocity.push_back(p.velocity.get(i));
     }
     for (std::size_t i = 0; i < n; ++i) {
         out.lambda.push_back(withLambda[i].w);
         out.corrected.push_back({corrected[i].x, corrected[i].y, corrected[i].z});
         const PackedPoint& v = velocityDensity[i];
         out.velocity.push_back({v.x, v.y, v.z});
-        out.xsphVelocity.push_back(velocity.get(i));
         out.vorticity.push_back(vorticity.get(i));
         out.x.push_back(p.position.get(i));
         out.xStar.push_back(p.predicted.get(i));
@@ -157,24 +155,25 @@ TEST_P(SimdVsReference, PhysicalViscosityStageMatchesTheReference) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> jitter(0.98f, 1.02f);
     for (float& d : density) d = c.restDensity * jitter(rng);
-    stages::packPositions(p.predicted, predicted.data(), 0, n);
-    Float3Array velocity;
-    velocity.resize(n);
-    stages::updateVelocity(1.0f / kDt, p.position, p.predicted, density.data(), velocity,
-                           velocityDensity.data(), 0, n);
-    // The stage adds kViscosityDt a to v: a step of 1 s makes a large beside v,
-    // so that reading it back loses little (the step's length is only a factor).
+    std::copy(density.begin(), density.end(), p.density.begin());
+    const SolverContext context{cloud.params, c, nullptr};
+    SolverStep s(context, search, p, kDt, nullptr);
+    s.predicted = predicted.data();
+    s.velocityDensity = velocityDensity.data();
+    stages::packPositions(s, 0, n);
+    stages::updateVelocity(s, 0, n);
+    // The stage adds dt a to v: a step of 1 s makes a large beside v, so
+    // that reading it back loses little (the step's length is only a factor).
     const float kViscosityDt = 1.0f;
-    Float3Array before = velocity;
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::applyPhysicalViscosity(c, nu, kViscosityDt, search, predicted.data(),
-                                       velocityDensity.data(), velocity, b, e);
-    });
+    s.dt = kViscosityDt;
+    const Float3Array before = p.velocity;
+    inUnevenRanges(n,
+                   [&](std::size_t b, std::size_t e) { stages::applyPhysicalViscosity(s, b, e); });
     std::vector<Vec3> xStar(n), v(n), after(n);
     for (std::size_t i = 0; i < n; ++i) {
         xStar[i] = p.predicted.get(i);
         v[i] = before.get(i);
-        after[i] = velocity.get(i);
+        after[i] = p.velocity.get(i);
     }
     EXPECT_LT(physicalViscosityDeviation(cloud, c, nu, xStar, v, density, after, kViscosityDt),
               kViscosityAgreement);
@@ -198,33 +197,29 @@ TEST_P(SimdVsReference, CurvatureForceStagesMatchTheReference) {
     search.sortByCell(p.predicted, perm);
     p.reorder(perm);
     search.buildNeighborLists(p.predicted);
+    // v = 0 (the store's) and a step of 1 s: the last stage leaves a itself in v.
+    const SimulationParams params = surfaceTensionParams(cloud);
+    const SolverContext context{params, c, nullptr};
+    SolverStep s(context, search, p, 1.0f, nullptr);
     std::vector<PackedPoint> predicted(n);
-    stages::packPositions(p.predicted, predicted.data(), 0, n);
     Float3Array gradient, normal;
     gradient.resize(n);
     normal.resize(n);
     std::vector<float> kappa(n);
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeColourGradient(c, search, predicted.data(), gradient, b, e);
-    });
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeBandNormal(c, search, predicted.data(), gradient, normal, b, e);
-    });
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::computeCurvature(c, search, predicted.data(), gradient, normal, kappa.data(), b,
-                                 e);
-    });
-    // v = 0 and a step of 1 s: the stage leaves a itself in v.
-    Float3Array velocity;
-    velocity.resize(n);
-    inUnevenRanges(n, [&](std::size_t b, std::size_t e) {
-        stages::applyCurvatureForce(c, 1.0f, search, predicted.data(), gradient, kappa.data(),
-                                    velocity, b, e);
-    });
+    s.predicted = predicted.data();
+    s.colourGradient = &gradient;
+    s.bandNormal = &normal;
+    s.curvature = kappa.data();
+    stages::packPositions(s, 0, n);
+    inUnevenRanges(n,
+                   [&](std::size_t b, std::size_t e) { stages::computeColourGradient(s, b, e); });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::computeBandNormal(s, b, e); });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::computeCurvature(s, b, e); });
+    inUnevenRanges(n, [&](std::size_t b, std::size_t e) { stages::applyCurvatureForce(s, b, e); });
     std::vector<Vec3> xStar(n), a(n);
     for (std::size_t i = 0; i < n; ++i) {
         xStar[i] = p.predicted.get(i);
-        a[i] = velocity.get(i);
+        a[i] = p.velocity.get(i);
     }
     EXPECT_LE(curvatureForceDeviation(cloud, c, xStar, a), 1.0);
 }
