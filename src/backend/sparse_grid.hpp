@@ -225,22 +225,19 @@ PBF_HD PBF_ALWAYS_INLINE void forEachStencilRange(const SparseGridView& g,
     // A few float roundings of the largest magnitude (2^-20 of it), and 1e-4.
     const float margin = 1e-4f + magnitude * (1.0f / 1048576.0f);
     const float reach2 = (1.0f + margin) * (1.0f + margin);
-    // Bit `code` set: the neighbour cell of that offset comes within reach.
-    // Branch-free over constant indices (the compiler unrolls it and keeps
-    // the gaps in registers): the walk below then tests one bit per cell.
-    std::uint32_t within = 0;
+    // The reach left along each of the 9 rows (offset sy, sz across them)
+    // once the distance across is spent: a row is out of reach when none is
+    // left, its cell before (after) p's column when the gap to it exceeds
+    // what is left. Constant indices: the compiler keeps them in registers.
+    float left[9];
     for (int sz = 0; sz < 3; ++sz)
-        for (int sy = 0; sy < 3; ++sy)
-            for (int sx = 0; sx < 3; ++sx)
-                within |= std::uint32_t(gap2[0][sx] + gap2[1][sy] + gap2[2][sz] < reach2)
-                          << (sx + 3 * sy + 9 * sz);
+        for (int sy = 0; sy < 3; ++sy) left[sy + 3 * sz] = reach2 - gap2[1][sy] - gap2[2][sz];
     std::uint32_t first = 0, last = 0;  // the range being merged
     for (std::uint32_t k = 0; k < nb.count; ++k) {
-        const int row = nb.row[k];
-        const int before = 3 * row, own = before + 1, after = before + 2;  // offset codes
-        if (!((within >> own) & 1u)) continue;  // the row is out of reach
-        const std::uint32_t begin = ((within >> before) & 1u) ? nb.lo[k] : nb.a[k];
-        const std::uint32_t end = ((within >> after) & 1u) ? nb.hi[k] : nb.b[k];
+        const float reachLeft = left[nb.row[k]];
+        if (!(reachLeft > 0.0f)) continue;  // the row is out of reach
+        const std::uint32_t begin = gap2[0][0] < reachLeft ? nb.lo[k] : nb.a[k];
+        const std::uint32_t end = gap2[0][2] < reachLeft ? nb.hi[k] : nb.b[k];
         if (begin >= end) continue;
         if (begin == last && last != first) {
             last = end;
