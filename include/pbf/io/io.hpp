@@ -66,7 +66,8 @@ std::uint32_t plyId(std::uint64_t id, const std::filesystem::path& path);
 
 // Binary little-endian PLY, one vertex per particle with the properties
 // x y z vx vy vz density (float) and id (uint), in id order. Blender,
-// Houdini, MeshLab and ParaView open it.
+// Houdini, MeshLab and ParaView open it. An id past 32 bits throws IoError
+// (plyId) and leaves no file.
 void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& particles);
 // Reads a file written by writeParticlesPly (or any binary little-endian
 // PLY with float x, y, z; other properties optional). Throws IoError.

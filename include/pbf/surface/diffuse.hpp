@@ -94,8 +94,8 @@ class DiffuseSimulator {
 };
 
 // Binary little-endian PLY like the particle frames: x y z vx vy vz (float),
-// type (uchar: 0 spray, 1 foam, 2 bubble), lifetime (float), id (uint).
-// Atomic. Throws IoError.
+// type (uchar: 0 spray, 1 foam, 2 bubble), lifetime (float), id (uint; one
+// past 32 bits throws, plyId). Atomic. Throws IoError.
 void writeDiffusePly(const std::filesystem::path& path, const DiffuseParticles& particles);
 // Reads a file written by writeDiffusePly (that exact layout). Throws IoError
 // naming the file for anything else, a truncated file or an unknown type.
