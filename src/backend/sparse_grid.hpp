@@ -76,18 +76,25 @@ PBF_HD inline std::uint64_t blockKeyOf(cell_key::CellCoords block) {
     return cell_key::cellKey({block.x << kBlockShift, block.y, block.z}) >> kBlockShift;
 }
 
-// The 27 blocks around block b (b included, code 13), -1 where none is occupied.
+// The 27 blocks around block b (b included, code 13), -1 where none is
+// occupied. The blocks before (after) along x are looked up only when b's
+// first (last) cell is occupied: only a cell at the row's end reaches into
+// them (cellNeighborhood), and most rows have none there, which saves 18 of
+// the 26 binary searches.
 PBF_HD inline void blockNeighborhood(const SparseGridView& g, std::uint32_t b, std::int32_t out[27]) {
     const cell_key::CellCoords c = blockCoords(g.blockKey[b]);
     constexpr std::int64_t kRows = cell_key::kCellsPerAxis >> kBlockShift;
     constexpr std::int64_t kCells = cell_key::kCellsPerAxis;
+    const std::uint64_t mask = g.blockMask[b];
+    const bool reachesBefore = (mask & 1u) != 0, reachesAfter = (mask >> 63) != 0;
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) {
                 const std::int64_t x = std::int64_t(c.x) + dx, y = std::int64_t(c.y) + dy,
                                    z = std::int64_t(c.z) + dz;
-                const bool inside =
-                    x >= 0 && y >= 0 && z >= 0 && x < kRows && y < kCells && z < kCells;
+                const bool reached = dx == 0 || (dx < 0 ? reachesBefore : reachesAfter);
+                const bool inside = reached && x >= 0 && y >= 0 && z >= 0 && x < kRows &&
+                                    y < kCells && z < kCells;
                 out[offsetCode(dx, dy, dz)] =
                     (dx == 0 && dy == 0 && dz == 0)
                         ? static_cast<std::int32_t>(b)
