@@ -169,9 +169,9 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
     std::memcpy(&hash, header + 24, 8);
     if (version < kCheckpointFormatVersion)
         fail(name, fmt::format("checkpoint format version {} was written by an older pbf (this "
-                               "pbf reads version {}, with 64-bit particle ids since "
-                               "version 5); its run cannot be resumed: start it again without "
-                               "--resume",
+                               "pbf reads version {}: 64-bit particle ids since version 5, "
+                               "positions in the world's local frame since 6); its run cannot "
+                               "be resumed: start it again without --resume",
                                version, kCheckpointFormatVersion));
     if (version != kCheckpointFormatVersion)
         fail(name, fmt::format(

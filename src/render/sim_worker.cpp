@@ -78,7 +78,7 @@ void SimulationWorker::publish(const World& world, const FrameReport* stepped, d
     s.frameMs = frameMs;
     s.device = world.backend().kind();
     for (const RigidBodyInfo& body : world.bodyInfos())
-        s.bodyPoses.push_back(world.solids().motion(body.solid).pose);
+        s.bodyPoses.push_back(world.solidMotion(body.solid).pose);
     std::lock_guard lock(mutex_);
     s.version = snapshot_.version + 1;
     snapshot_ = std::move(s);

@@ -227,7 +227,7 @@ SolidMesh posedSolids(const SolidMesh& statics, const std::vector<SolidMesh>& bo
                       const World& world) {
     SolidMesh mesh = statics;
     for (std::size_t k = 0; k < bodyShapes.size() && k < world.bodyCount(); ++k)
-        appendPosed(mesh, bodyShapes[k], world.solids().motion(world.bodyInfos()[k].solid).pose);
+        appendPosed(mesh, bodyShapes[k], world.solidMotion(world.bodyInfos()[k].solid).pose);
     return mesh;
 }
 

@@ -32,18 +32,22 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     }
     if (const std::size_t available = availableMemoryBytes(); available > 0)
         checkMemory(def_, available);
+    local_ = pbf::localFrame(def_.simulation.domain);
+    localDef_ = inFrame(def_, local_);
     settings_ = def_.simulation;
-    constants_ = SolverConstants::from(settings_);
-    solids_ = buildSolids(def_);
+    localSettings_ = localDef_.simulation;
+    constants_ = SolverConstants::from(localSettings_);
+    solids_ = buildSolids(localDef_);
     // Bodies add their surfaces to the solids, so no particle starts inside one.
     bodies_ = std::make_unique<detail::RigidBodies>(
-        detail::BodiesSetup{def_.source.empty() ? def_.name : def_.source, def_.simulation,
-                            def_.solids, def_.rigidBodies},
+        detail::BodiesSetup{def_.source.empty() ? def_.name : def_.source, localDef_.simulation,
+                            localDef_.solids, localDef_.rigidBodies},
         *solids_);
     indexSolids();
-    backend_ = makeBackend(options.backend, settings_, options.backendOptions);
-    backend_->upload(createParticles(def_, solids_.get(), &skipped_));
-    for (const EmitterDescription& e : def_.emitters) emitters_.emplace_back(e, settings_);
+    backend_ = makeBackend(options.backend, localSettings_, options.backendOptions);
+    backend_->upload(createParticles(def_, solids_.get(), &skipped_, local_));
+    for (const EmitterDescription& e : localDef_.emitters)
+        emitters_.emplace_back(e, localSettings_);
     speedLimit_ = pbf::speedLimit(def_);
 }
 
@@ -52,7 +56,7 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 SolverContext World::context() const {
-    return {settings_, constants_, solids_->empty() ? nullptr : solids_.get()};
+    return {localSettings_, constants_, solids_->empty() ? nullptr : solids_.get()};
 }
 
 void World::applySettings(const SimulationParams& settings) {
@@ -66,7 +70,9 @@ void World::applySettings(const SimulationParams& settings) {
             throw SceneError(prefix + std::string(param.path) +
                              ": cannot change while the world runs");
     settings_ = settings;
-    constants_ = SolverConstants::from(settings_);
+    localSettings_ = settings;
+    localSettings_.domain = localDef_.simulation.domain;
+    constants_ = SolverConstants::from(localSettings_);
 }
 
 std::optional<StepError> World::checkState(int substep, double time, const char* stage) const {
@@ -76,7 +82,7 @@ std::optional<StepError> World::checkState(int substep, double time, const char*
     error.substep = substep;
     error.stage = stage;
     if (const std::size_t body = bodies_->firstBadBody(); body < bodies_->size()) {
-        const RigidBodyState& b = bodies_->states()[body];
+        const RigidBodyState& b = bodyStates()[body];
         error.message = fmt::format(
             "bad state in frame {} substep {} ({}, t = {:.6f} s): {} at ({:.6g}, {:.6g}, {:.6g}) "
             "with velocity ({:.6g}, {:.6g}, {:.6g}): not finite",
@@ -84,8 +90,9 @@ std::optional<StepError> World::checkState(int substep, double time, const char*
             b.position.y, b.position.z, b.velocity.x, b.velocity.y, b.velocity.z);
         return error;
     }
-    const std::optional<BadParticle> bad = backend_->findBadParticle(speedLimit_);
+    std::optional<BadParticle> bad = backend_->findBadParticle(speedLimit_);
     if (!bad) return std::nullopt;
+    bad->position = local_.toWorld(bad->position);
     error.message = fmt::format(
         "bad state in frame {} substep {} ({}, t = {:.6f} s): particle id {} at ({:.6g}, {:.6g}, "
         "{:.6g}): {}",
@@ -211,9 +218,18 @@ FrameReport World::report() const {
 }
 
 const ParticleStore& World::particles() const {
-    if (const ParticleStore* host = backend_->hostState()) return *host;
+    const ParticleStore* host = backend_->hostState();
+    if (host && !local_.shifted()) return *host;
     if (!downloadedValid_) {
-        backend_->download(downloaded_);
+        if (host)
+            downloaded_ = *host;
+        else
+            backend_->download(downloaded_);
+        if (local_.shifted())
+            for (std::size_t i = 0; i < downloaded_.size(); ++i) {
+                downloaded_.position.set(i, local_.toWorld(downloaded_.position.get(i)));
+                downloaded_.predicted.set(i, local_.toWorld(downloaded_.predicted.get(i)));
+            }
         downloadedValid_ = true;
     }
     return downloaded_;
@@ -225,7 +241,9 @@ void World::addParticles(std::span<const Vec3> positions, std::span<const Vec3> 
                                     " positions but " + std::to_string(velocities.size()) +
                                     " velocities");
     applyHostEdits();
-    backend_->append(positions, velocities, settings_.fluid.restDensity);
+    std::vector<Vec3> local(positions.begin(), positions.end());
+    for (Vec3& x : local) x = local_.toFrame(x);
+    backend_->append(local, velocities, settings_.fluid.restDensity);
     downloadedValid_ = false;
     refreshArrays();
 }
@@ -268,6 +286,7 @@ void World::refreshArrays() {
         (*a.density)[k] = p.density[i];
         (*a.id)[k] = k;
     }
+    if (local_.shifted()) shownPositions_.assign(a.position->begin(), a.position->end());
 }
 
 // Writes the id-ordered positions and velocities (which a script may have
@@ -283,9 +302,15 @@ void World::applyHostEdits() {
     ParticleStore& p = *host;
     const float* x = arrays_->position->data();
     const float* v = arrays_->velocity->data();
+    const bool shifted = local_.shifted();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::uint64_t k = p.id[i];
-        p.position.set(i, {x[3 * k], x[3 * k + 1], x[3 * k + 2]});
+        const Vec3 shown{x[3 * k], x[3 * k + 1], x[3 * k + 2]};
+        if (!shifted)
+            p.position.set(i, shown);
+        else if (!(shown == Vec3{shownPositions_[3 * k], shownPositions_[3 * k + 1],
+                                 shownPositions_[3 * k + 2]}))
+            p.position.set(i, local_.toFrame(shown));
         p.predicted.set(i, p.position.get(i));
         p.velocity.set(i, {v[3 * k], v[3 * k + 1], v[3 * k + 2]});
     }
@@ -300,8 +325,16 @@ void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
     if (solids_->coupled(i))
         throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
                                     " is a rigid body's surface; use setBodyState");
-    solids_->setMotion(i, motion);
+    SolidMotion local = motion;
+    local.pose.position = local_.toFrame(motion.pose.position);
+    solids_->setMotion(i, local);
     indexSolids();
+}
+
+SolidMotion World::solidMotion(std::size_t i) const {
+    SolidMotion motion = solids_->motion(i);
+    motion.pose.position = local_.toWorld(motion.pose.position);
+    return motion;
 }
 
 std::size_t World::bodyCount() const {
@@ -311,7 +344,10 @@ const std::vector<RigidBodyInfo>& World::bodyInfos() const {
     return bodies_->infos();
 }
 const std::vector<RigidBodyState>& World::bodyStates() const {
-    return bodies_->states();
+    if (!local_.shifted()) return bodies_->states();
+    worldBodyStates_ = bodies_->states();
+    for (RigidBodyState& b : worldBodyStates_) b.position = local_.toWorld(b.position);
+    return worldBodyStates_;
 }
 const std::vector<RigidBodyLoad>& World::bodyLoads() const {
     return bodies_->loads();
@@ -321,7 +357,9 @@ void World::setBodyState(std::size_t i, const RigidBodyState& state) {
     if (i >= bodies_->size())
         throw std::out_of_range("setBodyState: no rigid body " + std::to_string(i) +
                                 " (the world has " + std::to_string(bodies_->size()) + ")");
-    bodies_->setState(i, state, *solids_);
+    RigidBodyState local = state;
+    local.position = local_.toFrame(state.position);
+    bodies_->setState(i, local, *solids_);
     indexSolids();
 }
 
@@ -330,8 +368,8 @@ void World::setBodyState(std::size_t i, const RigidBodyState& state) {
 void World::indexSolids() {
     const float margin = constants_.h + 2.0f * settings_.particleRadius;
     const Vec3 pad{margin, margin, margin};
-    solids_->buildIndex({def_.simulation.domain.min - pad, def_.simulation.domain.max + pad},
-                        margin);
+    const Aabb& domain = localDef_.simulation.domain;
+    solids_->buildIndex({domain.min - pad, domain.max + pad}, margin);
 }
 
 WorldState World::captureState() const {

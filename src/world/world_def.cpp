@@ -251,7 +251,8 @@ std::unique_ptr<SolidSet> buildSolids(const WorldDef& def) {
     return set;
 }
 
-ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped) {
+ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped,
+                              const LocalFrame& frame) {
     const SimulationParams& sim = def.simulation;
     const float r = sim.particleRadius;
     const float spacing = sim.particleSpacing();
@@ -261,11 +262,14 @@ ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::
     for (const FluidBlock& b : def.fluidBlocks) {
         const long long nx = latticeCount(b.box, 0, spacing), ny = latticeCount(b.box, 1, spacing),
                         nz = latticeCount(b.box, 2, spacing);
+        // Counted in world coordinates (where the corners were rounded),
+        // placed in the frame.
+        const Vec3 min = frame.toFrame(b.box.min);
         for (long long k = 0; k < nz; ++k)
             for (long long j = 0; j < ny; ++j)
                 for (long long i = 0; i < nx; ++i) {
-                    const Vec3 x = b.box.min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
-                                                    r + float(k) * spacing};
+                    const Vec3 x = min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
+                                              r + float(k) * spacing};
                     Vec3 normal;
                     // A particle spawned inside (or touching) a solid would be
                     // shot out of it: leave the site empty instead.

@@ -39,8 +39,9 @@ namespace pbf {
 class World;
 
 // 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start;
-// 5: 64-bit particle ids and next id (older versions are refused by name)
-inline constexpr std::uint32_t kCheckpointFormatVersion = 5;
+// 5: 64-bit particle ids and next id; 6: positions in the World's local
+// frame (pbf/world/local_frame.hpp; older versions are refused by name)
+inline constexpr std::uint32_t kCheckpointFormatVersion = 6;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and

@@ -17,6 +17,11 @@
 // The particles live in the backend (include/pbf/backend/backend.hpp); the World
 // reads them through the backend's reductions and downloads them only when
 // asked (particles(), arraysById()).
+//
+// Coordinates: the API speaks world coordinates, as the definition does. The
+// solver, solids() and the state (captureState) measure positions from the
+// World's local frame (pbf/world/local_frame.hpp), which is the world's own
+// for a domain near the origin and centred on the domain far from it.
 #pragma once
 
 #include <cstddef>
@@ -36,6 +41,7 @@
 #include "pbf/core/state_guard.hpp"
 #include "pbf/geometry/solids.hpp"
 #include "pbf/world/emitter.hpp"
+#include "pbf/world/local_frame.hpp"
 #include "pbf/world/world_def.hpp"
 
 namespace pbf {
@@ -78,7 +84,8 @@ struct FrameResult {
 };
 
 // Everything that changes while a world runs: enough to continue it
-// bit-identically (a checkpoint).
+// bit-identically (a checkpoint). Positions (particles', bodies') are in the
+// World's local frame: a far world's are not rounded to world floats.
 struct WorldState {
     ParticleStore particles;             // the backend's memory order
     std::vector<EmitterState> emitters;  // one per emitter of the definition
@@ -115,6 +122,8 @@ class World {
     World& operator=(World&&) noexcept;
 
     const WorldDef& definition() const { return def_; }
+    // Where positions are measured from inside (see the top of this file).
+    const LocalFrame& localFrame() const { return local_; }
 
     // Live settings: the one copy of the parameters the solver runs with.
     // applySettings validates (SceneError naming the field, nothing
@@ -136,7 +145,8 @@ class World {
     std::size_t skippedParticles() const { return skipped_; }
 
     // The particles in the backend's memory order (downloaded when they are
-    // not in host memory). Valid until the next step.
+    // not in host memory, copied to world coordinates when the local frame is
+    // shifted). Valid until the next step.
     const ParticleStore& particles() const;
     // The particles by id, for scripting; writes to position and velocity
     // take effect at the next step. Valid (and kept up to date after every
@@ -145,7 +155,10 @@ class World {
     // Adds particles with the next free ids (densities start at rest density).
     void addParticles(std::span<const Vec3> positions, std::span<const Vec3> velocities);
 
+    // The solids as the solver queries them: in the local frame.
     const SolidSet& solids() const { return *solids_; }
+    // Solid i's pose and velocity in world coordinates.
+    SolidMotion solidMotion(std::size_t i) const;
     // Moves solid i between frames (kinematic: the fluid sees its pose and
     // its velocity at contacts).
     void setSolidMotion(std::size_t i, const SolidMotion& motion);
@@ -176,7 +189,8 @@ class World {
 
     // The state, for checkpoints; restoreState puts one back (particles in
     // their memory order: the solver's stable sort depends on it, so
-    // resuming bit-identically needs the exact order).
+    // resuming bit-identically needs the exact order; positions in the local
+    // frame).
     WorldState captureState() const;
     void restoreState(WorldState state);
 
@@ -192,7 +206,10 @@ class World {
     void indexSolids();
 
     WorldDef def_;
-    SimulationParams settings_;
+    LocalFrame local_;
+    WorldDef localDef_;               // def_ in the local frame: what the solver and the solids see
+    SimulationParams settings_;       // world coordinates (the domain as defined)
+    SimulationParams localSettings_;  // settings_ with the domain in the local frame
     SolverConstants constants_;
     std::unique_ptr<SolidSet> solids_;
     std::unique_ptr<detail::RigidBodies> bodies_;
@@ -205,6 +222,11 @@ class World {
     mutable ParticleStore downloaded_;  // particles() for backends without host state
     mutable bool downloadedValid_ = false;
     std::unique_ptr<ParticleArrays> arrays_;  // exists once arraysById() was called
+    // The positions arraysById() last showed, when the frame is shifted: only
+    // those a script changed are written back (a world float rounds a far
+    // particle's position).
+    std::vector<float> shownPositions_;
+    mutable std::vector<RigidBodyState> worldBodyStates_;  // bodyStates() when shifted
 };
 
 }  // namespace pbf

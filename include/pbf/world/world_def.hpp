@@ -25,6 +25,7 @@
 #include "pbf/geometry/pose.hpp"
 #include "pbf/geometry/solid_description.hpp"
 #include "pbf/geometry/solids.hpp"
+#include "pbf/world/local_frame.hpp"
 
 namespace pbf {
 
@@ -84,9 +85,10 @@ std::size_t countParticles(const WorldDef& def);
 std::unique_ptr<SolidSet> buildSolids(const WorldDef& def);
 // Fills the fluid blocks with particles (lattice of spacing 2 r, ids in block
 // order), leaving out lattice sites closer than one radius to a solid; their
-// number goes to `skipped` if given.
+// number goes to `skipped` if given. `def` is in world coordinates; the
+// particles (and `solids`) are in `frame`.
 ParticleStore createParticles(const WorldDef& def, const SolidSet* solids = nullptr,
-                              std::size_t* skipped = nullptr);
+                              std::size_t* skipped = nullptr, const LocalFrame& frame = {});
 
 // Refuses definitions whose particles would not fit in `availableBytes` of
 // memory (the bytes per particle the solver needs times the count); throws
