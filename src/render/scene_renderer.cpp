@@ -13,6 +13,7 @@
 #include "pbf/render/renderer.hpp"
 #include "pbf/render/solid_mesh.hpp"
 #include "pbf/surface/anisotropic.hpp"
+#include "pbf/world/local_frame.hpp"
 #include "shaders.hpp"
 
 namespace pbf::render {
@@ -149,7 +150,8 @@ struct SceneRenderer::Impl {
     std::size_t solidVertices = 0;
     std::size_t count = 0;
     float radius = 0.01f;
-    Aabb domain{{0, 0, 0}, {1, 1, 1}};
+    Aabb domain{{0, 0, 0}, {1, 1, 1}};  // in `frame`
+    LocalFrame frame;                   // what everything is drawn relative to (setDomain)
 
     // Liquid look targets, sized to the image.
     int width = 0, height = 0;
@@ -470,14 +472,38 @@ struct SceneRenderer::Impl {
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 
+// Far from the origin a float's spacing reaches the pixels (1 mm at 10 km)
+// and the view matrix loses the scene: everything is drawn relative to the
+// World's local frame (pbf/world/local_frame.hpp), which is the world's own
+// near the origin.
+namespace {
+
+void shiftPoints(std::vector<float>& data, std::size_t stride, const LocalFrame& frame) {
+    for (std::size_t k = 0; k + 2 < data.size(); k += stride) {
+        const Vec3 p = frame.toFrame(Vec3{data[k], data[k + 1], data[k + 2]});
+        data[k] = p.x;
+        data[k + 1] = p.y;
+        data[k + 2] = p.z;
+    }
+}
+
+}  // namespace
+
 void SceneRenderer::setDomain(const Aabb& domain) {
-    impl_->setDomain(domain);
+    impl_->frame = localFrame(domain);
+    impl_->setDomain(impl_->frame.toFrame(domain));
 }
 void SceneRenderer::setParticleRadius(float radius) {
     impl_->radius = radius;
     impl_->ellipsoidsCurrent = false;
 }
-void SceneRenderer::setSolids(const SolidMesh& mesh) {
+void SceneRenderer::setSolids(const SolidMesh& world) {
+    SolidMesh shifted;
+    const SolidMesh& mesh = impl_->frame.shifted() ? shifted : world;
+    if (impl_->frame.shifted()) {
+        shifted = world;
+        shiftPoints(shifted.data, 6, impl_->frame);
+    }
     glBindBuffer(GL_ARRAY_BUFFER, impl_->solidVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.data.size() * sizeof(float)), mesh.data.data(),
                  GL_STATIC_DRAW);
@@ -493,7 +519,13 @@ std::size_t SceneRenderer::diffuseCount() const {
     return impl_->diffuseCount;
 }
 
-void SceneRenderer::uploadDiffuse(const RenderParticles& diffuse) {
+void SceneRenderer::uploadDiffuse(const RenderParticles& world) {
+    RenderParticles shifted;
+    const RenderParticles& diffuse = impl_->frame.shifted() ? shifted : world;
+    if (impl_->frame.shifted()) {
+        shifted = world;
+        shiftPoints(shifted.data, 4, impl_->frame);
+    }
     glBindBuffer(GL_ARRAY_BUFFER, impl_->diffuseVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(diffuse.data.size() * sizeof(float)),
                  diffuse.data.data(), GL_STREAM_DRAW);
@@ -501,7 +533,13 @@ void SceneRenderer::uploadDiffuse(const RenderParticles& diffuse) {
     impl_->diffuseCount = diffuse.count();
 }
 
-void SceneRenderer::upload(const RenderParticles& particles) {
+void SceneRenderer::upload(const RenderParticles& world) {
+    RenderParticles shifted;
+    const RenderParticles& particles = impl_->frame.shifted() ? shifted : world;
+    if (impl_->frame.shifted()) {
+        shifted = world;
+        shiftPoints(shifted.data, 4, impl_->frame);
+    }
     glBindBuffer(GL_ARRAY_BUFFER, impl_->particleVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)),
                  particles.data.data(), GL_STREAM_DRAW);
@@ -511,8 +549,11 @@ void SceneRenderer::upload(const RenderParticles& particles) {
     impl_->ellipsoidsCurrent = false;
 }
 
-void SceneRenderer::render(unsigned framebuffer, int width, int height, const Camera& camera,
+void SceneRenderer::render(unsigned framebuffer, int width, int height, const Camera& world,
                            const RenderSettings& settings) {
+    Camera camera = world;
+    camera.position = impl_->frame.toFrame(world.position);
+    camera.target = impl_->frame.toFrame(world.target);
     const View v = makeView(camera, impl_->domain, width, height);
     glViewport(0, 0, width, height);
     glDisable(GL_BLEND);

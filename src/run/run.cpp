@@ -25,7 +25,8 @@ std::string bodiesCsvHeader() {
     return "frame,time,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz,fx,fy,fz,tx,ty,tz";
 }
 
-// Centre of mass (m), orientation of the principal axes (unit quaternion),
+// Centre of mass (m; every digit its float has: far from the origin seven
+// digits would be centimetres), orientation of the principal axes (unit quaternion),
 // linear (m/s) and angular (rad/s) velocity, then the fluid's force (N) and
 // torque about the centre of mass (N m) averaged over the frame.
 std::string bodiesCsvRows(const World& world) {
@@ -36,7 +37,7 @@ std::string bodiesCsvRows(const World& world) {
         const RigidBodyState& b = states[k];
         const RigidBodyLoad& l = loads[k];
         rows += fmt::format(
-            "{},{:.6f},{},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},"
+            "{},{:.6f},{},{},{},{},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},{:.7g},"
             "{:.7g},{:.7g},{:.7g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
             world.frame(), world.time(), k, b.position.x, b.position.y, b.position.z,
             b.orientation.w, b.orientation.x, b.orientation.y, b.orientation.z, b.velocity.x,
