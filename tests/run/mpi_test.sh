@@ -120,6 +120,15 @@ for n in 2 4; do
     echo "sparse basin, $n ranks: $(same_frames "$work/basin1" "$work/basin$n") frames bit-identical"
 done
 
+# 10 km from the origin (every rank measures from the same local frame):
+# a solid and two rigid bodies.
+far=(run "$src/tests/data/far_bodies.json" -q --no-plot --render none --checkpoint-every 0
+     --checkpoint-seconds 0 --frames 8)
+"$pbf" "${far[@]}" --out "$work/far1" > /dev/null
+"${mpi[@]}" -np 2 "$pbf" "${far[@]}" --out "$work/far2" > "$work/far2.log" 2>&1 ||
+    { cat "$work/far2.log"; fail "scene 10 km away on 2 ranks failed"; }
+echo "10 km from the origin, 2 ranks: $(same_frames "$work/far1" "$work/far2") frames bit-identical"
+
 # Surface tension with adhesion on the walls and a solid: the cohesion's pass
 # reads the ghosts' x* and densities (exchanged for the density constraint
 # already); the curvature force exchanges the ghosts' g, band normals and
