@@ -108,7 +108,10 @@ constexpr ParamRange open(double lo, double hi) {
 const ParamInfo kTable[] = {
     PBF_PARAM(SimulationParams, domain, "domain", "domain", "m", {}, kFixed,
               "{\"min\": [x, y, z], \"max\": [x, y, z]}: the box that holds the water; particles "
-              "never leave it (its six walls are solid)",
+              "never leave it (its six walls are solid). It may lie anywhere: far from the origin "
+              "the solver measures positions from the domain's centre, so the water is as "
+              "accurate at 10 km as at 0 m (the numbers in the file are floats: 0.5 mm apart at "
+              "10 km)",
               "`max > min` on every axis, finite", "required", true),
     PBF_PARAM(SimulationParams, gravity, "gravity", "gravity", "m/s²", {0.0, 1000.0}, kLive,
               "gravitational acceleration", "finite, magnitude ≤ 1000"),

@@ -32,6 +32,7 @@ class JsonReader {
         return path_.empty() ? key : path_ + "." + key;
     }
     [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+    const std::string& file() const { return file_; }  // the scene file, for nested readers
 
   private:
     const nlohmann::json* value(const std::string& key);

@@ -10,6 +10,7 @@
 #include "core/hash.hpp"
 #include "io/json_reader.hpp"
 #include "pbf/core/param_table.hpp"
+#include "pbf/io/motion_file.hpp"
 
 namespace pbf {
 namespace {
@@ -274,6 +275,58 @@ void readShape(JsonReader& r, SolidDescription& d, const std::filesystem::path& 
     }
 }
 
+// A solid's "motion" (docs/scenes.md, "Moving solids"); ranges are checked
+// by validate(WorldDef).
+PrescribedMotion readMotion(JsonReader& solid, const std::filesystem::path& folder) {
+    PrescribedMotion m;
+    if (!solid.has("motion")) return m;
+    JsonReader r = solid.object("motion");
+    const std::string type = r.string("type", "");
+    if (r.has("pivot")) {
+        m.hasPivot = true;
+        m.pivot = r.requiredVec3("pivot");
+    }
+    if (type == "oscillate") {
+        m.kind = PrescribedMotion::Kind::Oscillate;
+        m.amplitude = r.vec3("amplitude", {});
+        m.angleAmplitude = r.number("angle_amplitude", 0.0f);
+        m.axis = r.vec3("axis", m.axis);
+        m.period = r.number("period", 0.0f);
+        m.phaseDegrees = r.number("phase", 0.0f);
+    } else if (type == "rotate") {
+        m.kind = PrescribedMotion::Kind::Rotate;
+        m.axis = r.vec3("axis", m.axis);
+        m.speedDegrees = r.number("speed", 0.0f);
+    } else if (type == "keyframes") {
+        m.kind = PrescribedMotion::Kind::Keyframes;
+        const bool inFile = r.has("file"), inline_ = r.has("keys");
+        if (inFile == inline_)
+            r.fail("keys", "give the keyframes either as keys (an array) or in a CSV file (file)");
+        if (inFile) {
+            const std::string file = r.string("file", "");
+            m.source = std::filesystem::path(file).is_absolute() ? file : (folder / file).string();
+            m.keys = readMotionCsv(m.source, r.field("file"));
+        } else {
+            const nlohmann::json& keys = r.array("keys");
+            for (std::size_t k = 0; k < keys.size(); ++k) {
+                JsonReader key(keys[k], r.field("keys") + "[" + std::to_string(k) + "]",
+                               solid.file());
+                if (!key.has("time")) key.fail("time", "missing (required), s");
+                MotionKey mk;
+                mk.time = key.number("time", 0.0f);
+                mk.position = key.vec3("position", {});
+                mk.rotationDegrees = key.vec3("rotation", {});
+                key.finish();
+                m.keys.push_back(mk);
+            }
+        }
+    } else {
+        r.fail("type", "expected \"oscillate\", \"rotate\" or \"keyframes\", got \"" + type + "\"");
+    }
+    r.finish();
+    return m;
+}
+
 void readSolids(JsonReader& root, Scene& scene) {
     const json& solids = root.array("solids");
     const std::filesystem::path folder = std::filesystem::path(scene.source).parent_path();
@@ -282,6 +335,7 @@ void readSolids(JsonReader& root, Scene& scene) {
         d.field = "solids[" + std::to_string(i) + "]";
         JsonReader r(solids[i], d.field, scene.source);
         readShape(r, d, folder, false);
+        d.motion = readMotion(r, folder);
         r.finish();
         scene.solids.push_back(d);
     }

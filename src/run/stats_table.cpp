@@ -1,26 +1,11 @@
 // Reading stats.csv back (pbf plot, the poster frame of pbf run).
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
-
+#include "pbf/io/csv_table.hpp"
+#include "pbf/io/io.hpp"
 #include "pbf/run/run.hpp"
 
 namespace pbf {
-namespace {
-
-std::vector<std::string> splitFields(const std::string& line) {
-    std::vector<std::string> fields;
-    std::stringstream in(line);
-    std::string field;
-    while (std::getline(in, field, ',')) fields.push_back(field);
-    if (!line.empty() && line.back() == ',') fields.emplace_back();
-    return fields;
-}
-
-}  // namespace
 
 const std::vector<double>& StatsTable::column(const std::string& name) const {
     for (std::size_t k = 0; k < names.size(); ++k)
@@ -29,34 +14,13 @@ const std::vector<double>& StatsTable::column(const std::string& name) const {
 }
 
 StatsTable readStatsCsv(const std::filesystem::path& file) {
+    if (!std::filesystem::exists(file))
+        throw IoError(file.string() + ": cannot open (no stats.csv: is this a pbf run directory?)");
+    CsvTable csv = readCsvTable(file);
     StatsTable table;
-    table.file = file.string();
-    std::ifstream in(file);
-    if (!in)
-        throw IoError(table.file + ": cannot open (no stats.csv: is this a pbf run directory?)");
-    std::string line;
-    if (!std::getline(in, line) || line.empty()) throw IoError(table.file + ": empty file");
-    table.names = splitFields(line);
-    table.columns.resize(table.names.size());
-    int lineNumber = 1;
-    while (std::getline(in, line)) {
-        ++lineNumber;
-        if (line.empty()) continue;
-        const std::vector<std::string> fields = splitFields(line);
-        if (fields.size() != table.names.size())
-            throw IoError(fmt::format("{}:{}: {} values, the header has {} columns", table.file,
-                                      lineNumber, fields.size(), table.names.size()));
-        for (std::size_t k = 0; k < fields.size(); ++k) {
-            const char* begin = fields[k].c_str();
-            char* end = nullptr;
-            errno = 0;
-            const double value = std::strtod(begin, &end);
-            if (end == begin || *end != '\0' || errno == ERANGE)
-                throw IoError(fmt::format("{}:{}: {}: not a number: '{}'", table.file, lineNumber,
-                                          table.names[k], fields[k]));
-            table.columns[k].push_back(value);
-        }
-    }
+    table.file = std::move(csv.file);
+    table.names = std::move(csv.names);
+    table.columns = std::move(csv.columns);
     if (table.rows() == 0) throw IoError(table.file + ": no rows (the run wrote no frame)");
     return table;
 }

@@ -54,6 +54,7 @@ WorldDef inFrame(const WorldDef& def, const LocalFrame& frame) {
         s.center = frame.toFrame(s.center);
         s.point = frame.toFrame(s.point);
         s.base = frame.toFrame(s.base);
+        s.motion.pivot = frame.toFrame(s.motion.pivot);
         // Only a mesh's translation places it (a box body's rotation turns
         // it about its own centre).
         if (s.kind == SolidDescription::Kind::Mesh)

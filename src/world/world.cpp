@@ -38,6 +38,10 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     localSettings_ = localDef_.simulation;
     constants_ = SolverConstants::from(localSettings_);
     solids_ = buildSolids(localDef_);
+    for (std::size_t i = 0; i < localDef_.solids.size(); ++i)
+        if (localDef_.solids[i].motion.moves())
+            driven_.push_back({i, solids_->motion(i).pose, pivotOf(localDef_.solids[i])});
+    placeDrivenSolids(0.0);
     // Bodies add their surfaces to the solids, so no particle starts inside one.
     bodies_ = std::make_unique<detail::RigidBodies>(
         detail::BodiesSetup{def_.source.empty() ? def_.name : def_.source, localDef_.simulation,
@@ -105,7 +109,8 @@ std::optional<StepError> World::checkState(int substep, double time, const char*
 double World::adaptiveSubstep(double remaining) const {
     const SolverParams& s = settings_.solver;
     const double maxDt = s.maxTimeStep;
-    const double fastest = std::max(backend_->maxSpeed(), bodies_->maxSurfaceSpeed());
+    const double fastest =
+        std::max({double(backend_->maxSpeed()), double(bodies_->maxSurfaceSpeed()), drivenSpeed_});
     const double speed = fastest + length(settings_.gravity) * maxDt;
     double dt = maxDt;
     if (speed > 0.0) dt = std::min(dt, s.cfl * settings_.particleSpacing() / speed);
@@ -170,6 +175,9 @@ FrameResult World::stepFrame() {
             // surfaces, and Bullet plus the new poses, each followed by the
             // solids' lookup grid) count as `bodies`.
             const auto placeStart = std::chrono::steady_clock::now();
+            // Driven solids and bodies are where they will be at the
+            // substep's end, as the fluid's positions will.
+            placeDrivenSolids(stepStart + dt);
             bodies_->placeForFluid(dt, *solids_);
             indexSolids();
             const auto placeEnd = std::chrono::steady_clock::now();
@@ -325,6 +333,11 @@ void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
     if (solids_->coupled(i))
         throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
                                     " is a rigid body's surface; use setBodyState");
+    for (const DrivenSolid& d : driven_)
+        if (d.index == i)
+            throw std::invalid_argument("setSolidMotion: solid " + std::to_string(i) +
+                                        " has a prescribed motion (solids[" + std::to_string(i) +
+                                        "].motion)");
     SolidMotion local = motion;
     local.pose.position = local_.toFrame(motion.pose.position);
     solids_->setMotion(i, local);
@@ -372,6 +385,26 @@ void World::indexSolids() {
     solids_->buildIndex({domain.min - pad, domain.max + pad}, margin);
 }
 
+// Places the solids with a prescribed motion where it puts them at `time`
+// (pbf/geometry/prescribed_motion.hpp) and notes the fastest point of any
+// of them (for the adaptive step): the speed of a rigid motion is largest
+// at a corner of the shape's bounding box.
+void World::placeDrivenSolids(double time) {
+    drivenSpeed_ = 0.0;
+    for (const DrivenSolid& d : driven_) {
+        const SolidMotion motion =
+            motionAt(localDef_.solids[d.index].motion, d.rest, d.pivot, time);
+        solids_->setMotion(d.index, motion);
+        const Aabb box = solids_->shape(d.index).bounds();
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3 p{corner & 1 ? box.max.x : box.min.x, corner & 2 ? box.max.y : box.min.y,
+                         corner & 4 ? box.max.z : box.min.z};
+            drivenSpeed_ =
+                std::max(drivenSpeed_, double(length(motion.velocityAt(motion.pose.toWorld(p)))));
+        }
+    }
+}
+
 WorldState World::captureState() const {
     WorldState state;
     backend_->download(state.particles);
@@ -392,6 +425,7 @@ void World::restoreState(WorldState state) {
                                     " body states for " + std::to_string(bodies_->size()) +
                                     " rigid bodies");
     for (std::size_t k = 0; k < emitters_.size(); ++k) emitters_[k].setState(state.emitters[k]);
+    placeDrivenSolids(state.time);
     bodies_->setStates(std::move(state.bodies), *solids_);
     indexSolids();
     backend_->upload(std::move(state.particles));

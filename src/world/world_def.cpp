@@ -118,7 +118,7 @@ std::string validateShape(const SolidDescription& d, const std::string& field) {
         return field + ".adhesion: must be in [0, 1], got " + std::to_string(d.adhesion);
     if (!finite(d.transform.rotationDegrees)) return field + ".rotation: must be finite";
     if (!finite(d.transform.translation)) return field + ".translation: must be finite";
-    return {};
+    return validate(d.motion, field + ".motion");
 }
 
 std::string validateSolids(const WorldDef& def) {
@@ -136,6 +136,9 @@ std::string validateRigidBodies(const WorldDef& def) {
         const std::string field = fieldOf(b.field, "rigid_bodies", i);
         if (b.shape.kind == SolidDescription::Kind::Plane)
             return field + ".type: a plane cannot be a rigid body (it has no finite mass)";
+        if (b.shape.motion.moves())
+            return field +
+                   ".motion: a rigid body moves by its forces; give the motion to a solid instead";
         if (std::string problem = validateShape(b.shape, field); !problem.empty()) return problem;
         const bool hasDensity = b.density != 0.0f, hasMass = b.mass != 0.0f;
         if (hasDensity == hasMass)
@@ -206,6 +209,24 @@ std::size_t countParticles(const WorldDef& def) {
         throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
                          std::to_string(total) + " particles exceed the 32-bit particle index");
     return static_cast<std::size_t>(total);
+}
+
+Vec3 pivotOf(const SolidDescription& d) {
+    if (d.motion.hasPivot) return d.motion.pivot;
+    using Kind = SolidDescription::Kind;
+    switch (d.kind) {
+        case Kind::Box:
+            return (d.box.min + d.box.max) * 0.5f;
+        case Kind::Sphere:
+            return d.center;
+        case Kind::Plane:
+            return d.point;
+        case Kind::Cylinder:
+            return d.base + d.axis * (0.5f * d.height / length(d.axis));
+        case Kind::Mesh:
+            return d.transform.translation;
+    }
+    return {};
 }
 
 std::unique_ptr<SolidSet> buildSolids(const WorldDef& def) {

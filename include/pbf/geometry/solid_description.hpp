@@ -6,6 +6,7 @@
 #include <string>
 
 #include "pbf/core/vec3.hpp"
+#include "pbf/geometry/prescribed_motion.hpp"
 #include "pbf/geometry/solids.hpp"
 
 namespace pbf {
@@ -28,6 +29,9 @@ struct SolidDescription {
     // Wetting with surface tension on (SolidSet::setAdhesion): the work of
     // adhesion in units of 2 sigma, [0, 1]; contact angle acos(2 a - 1).
     float adhesion = 0.0f;
+    // A solid's prescribed motion (docs/scenes.md, "Moving solids"); none
+    // for a rigid body's shape, which moves by its forces.
+    PrescribedMotion motion;
     std::string field;  // "solids[2]", for messages (set by validate if empty)
 };
 

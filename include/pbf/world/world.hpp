@@ -160,7 +160,8 @@ class World {
     // Solid i's pose and velocity in world coordinates.
     SolidMotion solidMotion(std::size_t i) const;
     // Moves solid i between frames (kinematic: the fluid sees its pose and
-    // its velocity at contacts).
+    // its velocity at contacts). Refused for a solid with a prescribed
+    // motion (solids[i].motion), which the World places every substep.
     void setSolidMotion(std::size_t i, const SolidMotion& motion);
     const std::vector<Emitter>& emitters() const { return emitters_; }
 
@@ -204,6 +205,7 @@ class World {
     void applyHostEdits();
     void refreshArrays();
     void indexSolids();
+    void placeDrivenSolids(double time);
 
     WorldDef def_;
     LocalFrame local_;
@@ -215,6 +217,15 @@ class World {
     std::unique_ptr<detail::RigidBodies> bodies_;
     std::unique_ptr<Backend> backend_;
     std::vector<Emitter> emitters_;
+    // Solids with a prescribed motion: their index, pose at rest and pivot
+    // (local frame), and the fastest point of any of them now (m/s).
+    struct DrivenSolid {
+        std::size_t index = 0;
+        Pose rest;
+        Vec3 pivot;
+    };
+    std::vector<DrivenSolid> driven_;
+    double drivenSpeed_ = 0.0;
     std::size_t skipped_ = 0;
     int frame_ = 0;
     double time_ = 0.0;

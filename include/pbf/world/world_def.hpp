@@ -80,6 +80,11 @@ std::string validate(const WorldDef& def);
 // Throws SceneError beyond the 32-bit particle index.
 std::size_t countParticles(const WorldDef& def);
 
+// The point a solid's prescribed rotations turn about unless its motion
+// names a pivot: a box's or a cylinder's centre, a sphere's centre, a
+// plane's point, a mesh's translation.
+Vec3 pivotOf(const SolidDescription& solid);
+
 // Builds the solids (loads meshes), each placed by its pose. Throws
 // SceneError naming the file and field for a broken mesh.
 std::unique_ptr<SolidSet> buildSolids(const WorldDef& def);
