@@ -148,6 +148,9 @@ void addSceneParts(usd::Stage& stage, const Scene& scene,
                    const std::function<void(const std::string&)>& warn) {
 #ifdef PBF_HAVE_RENDER
     for (std::size_t k = 0; k < scene.solids.size(); ++k) {
+        if (scene.solids[k].motion.moves())
+            warn(fmt::format("{} moves (its motion): the stage shows it where it rests",
+                             scene.solids[k].field));
         render::SolidMesh mesh;
         render::appendSolid(mesh, scene.solids[k], scene.simulation.domain);
         stage.solids.push_back(toStaticMesh(mesh, fmt::format("solid_{}", k), {}));

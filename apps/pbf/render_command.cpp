@@ -254,10 +254,12 @@ int runRender(const RenderArguments& args) {
         options.world.backend = selectDevice(args.device);
         const render::SolidMesh& statics = solids;
         const std::vector<render::SolidMesh> bodyShapes = render::tessellateBodyShapes(scene);
+        const std::vector<render::DrivenShape> driven = render::tessellateDrivenSolids(scene);
         options.writeFrame = [&](int frame, const World& world) {
-            // Rigid bodies move: the solids are drawn at this frame's poses.
-            if (!bodyShapes.empty())
-                writer.setSolids(render::posedSolids(statics, bodyShapes, world));
+            // Rigid bodies and driven solids move: the solids are drawn at
+            // this frame's poses.
+            if (!bodyShapes.empty() || !driven.empty())
+                writer.setSolids(render::posedSolids(statics, bodyShapes, driven, world));
             renderFrame(frame, render::packParticles(world.particles(), images.look.color), {});
         };
         const auto t0 = Clock::now();
@@ -285,13 +287,19 @@ int runRender(const RenderArguments& args) {
             bodyPoses = readBodyPoses(bodiesCsv);
         }
         const render::SolidMesh& statics = solids;
+        // Driven solids: their motion is a function of the frame's time.
+        const std::vector<render::DrivenShape> driven =
+            haveScene ? render::tessellateDrivenSolids(scene) : std::vector<render::DrivenShape>{};
         for (int frame = 0; frame < total; ++frame) {
             const auto t0 = Clock::now();
             const ParticleFrame ply =
                 frame == 0 ? firstFrame : readParticlesPly(plyFiles[std::size_t(frame)]);
-            if (std::size_t(frame) < bodyPoses.size()) {
+            if (std::size_t(frame) < bodyPoses.size() || !driven.empty()) {
                 render::SolidMesh posed = statics;
-                const std::vector<Pose>& poses = bodyPoses[std::size_t(frame)];
+                render::appendDriven(posed, driven, double(frame) / fps);
+                const std::vector<Pose> poses = std::size_t(frame) < bodyPoses.size()
+                                                    ? bodyPoses[std::size_t(frame)]
+                                                    : std::vector<Pose>{};
                 for (std::size_t k = 0; k < bodyShapes.size() && k < poses.size(); ++k) {
                     const Pose& b = poses[k];
                     const Pose& local = shapeInBody[k];

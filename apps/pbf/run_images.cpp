@@ -26,12 +26,14 @@ struct RunImages::Impl {
     fs::path directory;                         // the run's
     render::SolidMesh statics;                  // the static solids
     std::vector<render::SolidMesh> bodyShapes;  // rigid bodies, posed per frame
+    std::vector<render::DrivenShape> driven;    // solids with a motion, placed per frame
     render::FrameImages images;
     Impl(const Scene& s, const render::ImageSettings& settings)
         : scene(s),
           directory(s.output.directory),
           statics(render::tessellateSolids(s)),
           bodyShapes(render::tessellateBodyShapes(s)),
+          driven(render::tessellateDrivenSolids(s)),
           images(settings, s.simulation.domain, s.simulation.particleRadius, statics,
                  directory / "images") {}
 };
@@ -58,9 +60,11 @@ std::unique_ptr<RunImages> RunImages::start(const Scene& scene,
 }
 
 void RunImages::write(int frame, const World& world) {
-    // Rigid bodies move: the solids are drawn at this frame's poses.
-    if (!impl_->bodyShapes.empty())
-        impl_->images.setSolids(render::posedSolids(impl_->statics, impl_->bodyShapes, world));
+    // Rigid bodies and driven solids move: the solids are drawn at this
+    // frame's poses.
+    if (!impl_->bodyShapes.empty() || !impl_->driven.empty())
+        impl_->images.setSolids(
+            render::posedSolids(impl_->statics, impl_->bodyShapes, impl_->driven, world));
     impl_->images.write(
         frame, render::packParticles(world.particles(), impl_->images.settings().look.color));
 }

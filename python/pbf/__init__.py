@@ -23,6 +23,7 @@ from ._pbf import (
     FrameReport,
     GuardParams,
     IoError,
+    Motion,
     OutputParams,
     RigidBody,
     RigidBodyDescription,
@@ -53,7 +54,7 @@ from .ply import read_ply
 
 __all__ = [
     "Aabb", "ArtificialPressureParams", "EmitterDescription", "EmitterList", "FluidBlock",
-    "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "OutputParams",
+    "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "Motion", "OutputParams",
     "RigidBody", "RigidBodyDescription", "RigidBodyList", "RunSummary", "Scene", "SceneError", "Settings", "SimulationParams", "SolidDescription",
     "SolidList", "SolverParams", "StageTimes", "StateError", "StateStatistics", "Transform",
     "World", "WorldDef", "hardware_threads", "load_scene", "parameters", "read_ply", "run", "set_threads",

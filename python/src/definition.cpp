@@ -51,6 +51,100 @@ SolidDescription solid(Kind kind) {
     return s;
 }
 
+// A solid's prescribed motion (pbf/geometry/prescribed_motion.hpp):
+// Motion.oscillate / rotate / keyframes, the scene file's "motion".
+void bindMotion(py::module_& m) {
+    using MKind = PrescribedMotion::Kind;
+    const auto withPivot = [](PrescribedMotion& motion, const py::object& pivot) {
+        if (pivot.is_none()) return;
+        motion.hasPivot = true;
+        motion.pivot = pivot.cast<Vec3>();
+    };
+    py::class_<PrescribedMotion>(
+        m, "Motion",
+        "A solid's prescribed motion (docs/scenes.md, \"Moving solids\"): a displacement from "
+        "where the solid's definition puts it, turning about `pivot` (default: the solid's "
+        "centre). Make one with oscillate(), rotate() or keyframes(); set it as "
+        "SolidDescription.motion.")
+        .def(py::init<>())
+        .def_static(
+            "oscillate",
+            [withPivot](const Vec3& amplitude, float angleAmplitude, const Vec3& axis, float period,
+                        float phase, const py::object& pivot) {
+                PrescribedMotion motion;
+                motion.kind = MKind::Oscillate;
+                motion.amplitude = amplitude;
+                motion.angleAmplitude = angleAmplitude;
+                motion.axis = axis;
+                motion.period = period;
+                motion.phaseDegrees = phase;
+                withPivot(motion, pivot);
+                return motion;
+            },
+            py::arg("amplitude") = Vec3{}, py::arg("angle_amplitude") = 0.0f,
+            py::arg("axis") = Vec3{0, 1, 0}, py::arg("period") = 1.0f, py::arg("phase") = 0.0f,
+            py::arg("pivot") = py::none(),
+            "d = amplitude sin(2 pi t / period + phase) (m) and a turn of angle_amplitude "
+            "sin(...) degrees about axis; phase in degrees.")
+        .def_static(
+            "rotate",
+            [withPivot](const Vec3& axis, float speed, const py::object& pivot) {
+                PrescribedMotion motion;
+                motion.kind = MKind::Rotate;
+                motion.axis = axis;
+                motion.speedDegrees = speed;
+                withPivot(motion, pivot);
+                return motion;
+            },
+            py::arg("axis") = Vec3{0, 1, 0}, py::arg("speed") = 0.0f, py::arg("pivot") = py::none(),
+            "A constant angular speed (degrees per second) about axis.")
+        .def_static(
+            "keyframes",
+            [withPivot](const std::vector<py::tuple>& keys, const py::object& pivot) {
+                PrescribedMotion motion;
+                motion.kind = MKind::Keyframes;
+                for (const py::tuple& key : keys) {
+                    if (key.size() < 2 || key.size() > 3)
+                        throw SceneError(
+                            "motion.keys: each keyframe is (time, position) or (time, position, "
+                            "rotation in degrees)");
+                    MotionKey k;
+                    k.time = key[0].cast<double>();
+                    k.position = key[1].cast<Vec3>();
+                    if (key.size() == 3) k.rotationDegrees = key[2].cast<Vec3>();
+                    motion.keys.push_back(k);
+                }
+                withPivot(motion, pivot);
+                return motion;
+            },
+            py::arg("keys"), py::arg("pivot") = py::none(),
+            "Linear between (time, position[, rotation]) keyframes, held before the first and "
+            "after the last; rotations in degrees (as a mesh's rotation).")
+        .def_property_readonly("kind",
+                               [](const PrescribedMotion& motion) {
+                                   switch (motion.kind) {
+                                       case MKind::None:
+                                           return "none";
+                                       case MKind::Oscillate:
+                                           return "oscillate";
+                                       case MKind::Rotate:
+                                           return "rotate";
+                                       case MKind::Keyframes:
+                                           return "keyframes";
+                                   }
+                                   return "?";
+                               })
+        .def(
+            "pose_at",
+            [](const PrescribedMotion& motion, double time, const Vec3& pivot) {
+                const SolidMotion s = motionAt(motion, Pose{}, pivot, time);
+                return py::make_tuple(s.pose.toWorld(Vec3{}), s.velocity, s.angularVelocity);
+            },
+            py::arg("time"), py::arg("pivot") = Vec3{},
+            "Where the motion takes the point at the origin at `time` s (about `pivot`), its "
+            "velocity (m/s) and the angular velocity (rad/s).");
+}
+
 void bindBlocksAndGuard(py::module_& m) {
     py::class_<FluidBlock>(m, "FluidBlock",
                            "A box of water filled with particles on a lattice of spacing 2 r.")
@@ -191,6 +285,8 @@ void bindSolids(py::module_& m) {
         .def_property("adhesion", floatGetter(&SolidDescription::adhesion),
                       floatSetter(&SolidDescription::adhesion),
                       "wetting with surface tension: work of adhesion / 2 sigma, [0, 1]")
+        .def_readwrite("motion", &SolidDescription::motion,
+                       "a prescribed motion (pbf.Motion); none by default")
         .def_readwrite("field", &SolidDescription::field, "name in messages, e.g. \"solids[2]\"")
         .def("__repr__", [](const py::object& self) {
             switch (self.cast<const SolidDescription&>().kind) {
@@ -362,6 +458,7 @@ void bindScene(py::module_& m) {
 }  // namespace
 
 void bindDefinition(py::module_& m) {
+    bindMotion(m);
     bindBlocksAndGuard(m);
     bindSolids(m);
     bindBodyDescription(m);

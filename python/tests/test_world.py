@@ -139,3 +139,31 @@ def test_add_particles(small_world):
         w.add_particles(np.zeros((2, 2)))
     with pytest.raises(ValueError, match="velocities"):
         w.add_particles(np.zeros((2, 3)) + 0.5, np.zeros((3, 3)))
+
+
+def test_a_solid_with_a_prescribed_motion_stirs_the_water():
+    d = pbf.WorldDef(name="mixer")
+    d.simulation.domain = ((0, 0, 0), (0.4, 0.25, 0.4))
+    d.simulation.particle_radius = 0.01
+    d.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (0.4, 0.15, 0.4)))
+    paddle = pbf.SolidDescription.box((0.1, 0.02, 0.19), (0.3, 0.14, 0.21))
+    paddle.motion = pbf.Motion.rotate(axis=(0, 1, 0), speed=120)
+    d.solids.append(paddle)
+    assert d.solids[0].motion.kind == "rotate"
+    # A quarter turn about +y in 0.75 s takes +x to -z (about the pivot).
+    at, velocity, spin = pbf.Motion.rotate(speed=120).pose_at(0.75, pivot=(0.2, 0, 0.2))
+    assert at == pytest.approx((0.2 - 0.2, 0.0, 0.2 + 0.2), abs=1e-5)
+    assert spin[1] == pytest.approx(np.radians(120))
+    w = pbf.World(d)
+    w.step_frames(20)
+    x = w.positions - (0.2, 0.0, 0.2)
+    v = w.velocities
+    angular = np.sum(x[:, 2] * v[:, 0] - x[:, 0] * v[:, 2])
+    assert angular > 0  # the water turns with the paddle (+y)
+    assert w.report().statistics.inside_solid == 0
+    with pytest.raises(ValueError, match=r"solids\[0\].motion"):
+        w.set_solid_motion(0, position=(0, 0, 0))
+    bad = pbf.SolidDescription.box((0.1, 0.02, 0.19), (0.3, 0.14, 0.21))
+    bad.motion = pbf.Motion.keyframes([(1.0, (0, 0, 0)), (0.5, (0.1, 0, 0))])
+    d.solids[0] = bad
+    assert d.validate().startswith("solids[0].motion.keys[1].time: keyframes must be in")

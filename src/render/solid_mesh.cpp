@@ -224,16 +224,47 @@ void appendPosed(SolidMesh& out, const SolidMesh& shape, const Pose& pose) {
 }
 
 SolidMesh posedSolids(const SolidMesh& statics, const std::vector<SolidMesh>& bodyShapes,
-                      const World& world) {
+                      const std::vector<DrivenShape>& driven, const World& world) {
     SolidMesh mesh = statics;
     for (std::size_t k = 0; k < bodyShapes.size() && k < world.bodyCount(); ++k)
         appendPosed(mesh, bodyShapes[k], world.solidMotion(world.bodyInfos()[k].solid).pose);
+    appendDriven(mesh, driven, world.time());
     return mesh;
+}
+
+std::vector<DrivenShape> tessellateDrivenSolids(const Scene& scene) {
+    std::vector<DrivenShape> shapes;
+    for (const SolidDescription& solid : scene.solids) {
+        if (!solid.motion.moves()) continue;
+        DrivenShape shape;
+        shape.motion = solid.motion;
+        shape.pivot = pivotOf(solid);
+        SolidDescription own = solid;
+        if (solid.kind == SolidDescription::Kind::Mesh) {
+            // The mesh in its file's frame (scaled); its transform is the rest pose.
+            shape.rest = solid.transform.pose();
+            own.transform.rotationDegrees = {};
+            own.transform.translation = {};
+        }
+        try {
+            appendSolid(shape.mesh, own, scene.simulation.domain);
+        } catch (const SolidError& e) {
+            throw SceneError(scene.source + ": " + solid.field + ".file: " + e.what());
+        }
+        shapes.push_back(std::move(shape));
+    }
+    return shapes;
+}
+
+void appendDriven(SolidMesh& out, const std::vector<DrivenShape>& driven, double time) {
+    for (const DrivenShape& shape : driven)
+        appendPosed(out, shape.mesh, motionAt(shape.motion, shape.rest, shape.pivot, time).pose);
 }
 
 SolidMesh tessellateSolids(const Scene& scene) {
     SolidMesh mesh;
     for (const SolidDescription& solid : scene.solids) {
+        if (solid.motion.moves()) continue;  // tessellateDrivenSolids
         try {
             appendSolid(mesh, solid, scene.simulation.domain);
         } catch (const SolidError& e) {

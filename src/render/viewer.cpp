@@ -164,6 +164,7 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
     renderer.setParticleRadius(scene.simulation.particleRadius);
     const SolidMesh statics = tessellateSolids(scene);
     const std::vector<SolidMesh> bodyShapes = tessellateBodyShapes(scene);
+    const std::vector<DrivenShape> driven = tessellateDrivenSolids(scene);
     renderer.setSolids(statics);
     OrbitCamera camera = defaultViewerCamera(scene.simulation.domain, options);
 
@@ -199,10 +200,11 @@ ViewerSummary runViewer(const Scene& scene, const ViewerOptions& options) {
         if (worker.takeSnapshot(snapshot) || settings.color != uploadedMode) {
             renderer.upload(toRenderParticles(snapshot, settings.color));
             uploadedMode = settings.color;
-            if (!bodyShapes.empty()) {  // the bodies at this snapshot's poses
+            if (!bodyShapes.empty() || !driven.empty()) {  // moving solids at this snapshot
                 SolidMesh solids = statics;
                 for (std::size_t k = 0; k < bodyShapes.size() && k < snapshot.bodyPoses.size(); ++k)
                     appendPosed(solids, bodyShapes[k], snapshot.bodyPoses[k]);
+                appendDriven(solids, driven, snapshot.report.time);
                 renderer.setSolids(solids);
             }
         }

@@ -522,6 +522,43 @@ TEST(SolidMesh, ObjMeshLiesOnTheSolversSurface) {
     }
 }
 
+// A driven mesh is drawn where the World puts it: the drawn vertices lie on
+// the solver's surface at the same time (the mesh turning about its pivot),
+// and the static solids leave it out.
+TEST(SolidMesh, ADrivenSolidIsDrawnWhereTheSolverHasIt) {
+    const std::string cube = std::string(PBF_SCENES_DIR) + "/../tests/data/cube.obj";
+    const Scene scene =
+        parseScene(test::smallSceneJson(
+                       R"("solids": [{"type": "mesh", "file": ")" + cube +
+                       R"(", "scale": 0.1, "rotation": [0, 30, 0], "translation": [0.2, 0.25, 0.2],
+               "motion": {"type": "rotate", "axis": [1, 0, 1], "speed": 600,
+                          "pivot": [0.25, 0.25, 0.2]}},
+              {"type": "sphere", "center": [0.3, 0.3, 0.3], "radius": 0.02}])"),
+                   "inline.json");
+    EXPECT_EQ(tessellateSolids(scene).triangleCount(), tessellateSolids([&] {
+                                                           Scene only = scene;
+                                                           only.solids.erase(only.solids.begin());
+                                                           return only;
+                                                       }())
+                                                           .triangleCount());
+    const std::vector<DrivenShape> driven = tessellateDrivenSolids(scene);
+    ASSERT_EQ(driven.size(), 1u);
+    World world(scene);
+    for (int frame = 0; frame < 3; ++frame) test::stepFrame(world);
+    SolidMesh mesh;
+    appendDriven(mesh, driven, world.time());
+    ASSERT_EQ(mesh.triangleCount(), 12u);
+    const SolidSet& solids = world.solids();
+    for (std::size_t v = 0; v < 3 * mesh.triangleCount(); ++v) {
+        Vec3 normal;
+        EXPECT_NEAR(solids.signedDistance(mesh.position(v), 1.0f, normal), 0.0f, 0.01f);
+    }
+    // At rest it was elsewhere: the motion moved it by more than the tolerance.
+    SolidMesh rest;
+    appendDriven(rest, driven, 0.0);
+    EXPECT_GT(length(rest.position(0) - mesh.position(0)), 0.02f);
+}
+
 TEST(Camera, ValidationNamesTheField) {
     Camera camera;
     EXPECT_EQ(validateCamera(camera), "");

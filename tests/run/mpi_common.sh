@@ -15,4 +15,4 @@ rm -rf "$work"
 mkdir -p "$work"
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
 mpi=("$mpirun" --oversubscribe --allow-run-as-root --mca btl self,vader)
-fail() { echo "FAIL: $*"; exit 1; }
+fail() { echo "FAIL: $*" >&2; exit 1; }

@@ -28,9 +28,23 @@ struct SolidMesh {
 // Throws pbf::SolidError for a mesh file that cannot be loaded.
 void appendSolid(SolidMesh& mesh, const SolidDescription& solid, const Aabb& domain);
 
-// All solids of the scene; a mesh that cannot be loaded throws pbf::SceneError
-// naming the scene file and the field ("scenes/x.json: solids[0].file: ...").
+// The scene's static solids (those without a `motion`); a mesh that cannot be
+// loaded throws pbf::SceneError naming the scene file and the field
+// ("scenes/x.json: solids[0].file: ...").
 SolidMesh tessellateSolids(const Scene& scene);
+
+// A solid with a prescribed motion: its surface in the shape's own frame and
+// what places it at a time (pbf/geometry/prescribed_motion.hpp), in world
+// coordinates as the scene gives them.
+struct DrivenShape {
+    SolidMesh mesh;
+    PrescribedMotion motion;
+    Pose rest;  // identity for analytic shapes, a mesh's transform
+    Vec3 pivot;
+};
+std::vector<DrivenShape> tessellateDrivenSolids(const Scene& scene);
+// Appends every driven solid where its motion puts it at `time` s.
+void appendDriven(SolidMesh& out, const std::vector<DrivenShape>& driven, double time);
 
 // The scene's rigid bodies, one mesh each, in their shapes' own frames (a
 // box or sphere centred at the origin, a cylinder along y centred at the
@@ -39,8 +53,9 @@ SolidMesh tessellateSolids(const Scene& scene);
 std::vector<SolidMesh> tessellateBodyShapes(const Scene& scene);
 // Appends `shape` placed by `pose` to `out`.
 void appendPosed(SolidMesh& out, const SolidMesh& shape, const Pose& pose);
-// The static solids and every body at its current pose in `world`.
+// The static solids, every body at its current pose in `world` and every
+// driven solid at the world's time.
 SolidMesh posedSolids(const SolidMesh& statics, const std::vector<SolidMesh>& bodyShapes,
-                      const World& world);
+                      const std::vector<DrivenShape>& driven, const World& world);
 
 }  // namespace pbf::render
