@@ -134,6 +134,9 @@ int runScene(RunArguments args) {
         const SolidSet& solids = world.solids();
         for (std::size_t k = 0; k < solids.size(); ++k)
             fmt::print(stderr, "pbf run: solid {}: {}\n", k, solids.shape(k).describe());
+        for (const SolidDescription& solid : world.definition().solids)
+            if (const std::string waves = describe(solid.motion); !waves.empty())
+                fmt::print(stderr, "pbf run: {}: {}\n", solid.field, waves);
         if (world.skippedParticles() > 0)
             fmt::print(
                 stderr,

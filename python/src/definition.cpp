@@ -120,6 +120,44 @@ void bindMotion(py::module_& m) {
             py::arg("keys"), py::arg("pivot") = py::none(),
             "Linear between (time, position[, rotation]) keyframes, held before the first and "
             "after the last; rotations in degrees (as a mesh's rotation).")
+        .def_static(
+            "piston",
+            [](float waveHeight, float period, float depth, const Vec3& direction, float ramp) {
+                PrescribedMotion motion;
+                motion.kind = MKind::Piston;
+                motion.waveHeight = waveHeight;
+                motion.period = period;
+                motion.depth = depth;
+                motion.direction = direction;
+                motion.ramp = ramp;
+                return motion;
+            },
+            py::arg("wave_height"), py::arg("period"), py::arg("depth"),
+            py::arg("direction") = Vec3{1, 0, 0}, py::arg("ramp") = -1.0f,
+            "A piston wave maker: the stroke that makes waves of wave_height (m) and period (s) "
+            "in still water depth (m) deep, by first-order theory (Biesel); the amplitude rises "
+            "over ramp s (default two periods).")
+        .def_static(
+            "flap",
+            [](float waveHeight, float period, float depth, const Vec3& pivot,
+               const Vec3& direction, float ramp) {
+                PrescribedMotion motion;
+                motion.kind = MKind::Flap;
+                motion.waveHeight = waveHeight;
+                motion.period = period;
+                motion.depth = depth;
+                motion.direction = direction;
+                motion.ramp = ramp;
+                motion.hasPivot = true;
+                motion.pivot = pivot;
+                return motion;
+            },
+            py::arg("wave_height"), py::arg("period"), py::arg("depth"), py::arg("pivot"),
+            py::arg("direction") = Vec3{1, 0, 0}, py::arg("ramp") = -1.0f,
+            "A flap wave maker hinged at pivot (on the floor).")
+        .def(
+            "describe", [](const PrescribedMotion& motion) { return describe(motion); },
+            "A wave maker's wavelength and stroke; empty for other motions.")
         .def_property_readonly("kind",
                                [](const PrescribedMotion& motion) {
                                    switch (motion.kind) {
@@ -131,6 +169,10 @@ void bindMotion(py::module_& m) {
                                            return "rotate";
                                        case MKind::Keyframes:
                                            return "keyframes";
+                                       case MKind::Piston:
+                                           return "piston";
+                                       case MKind::Flap:
+                                           return "flap";
                                    }
                                    return "?";
                                })

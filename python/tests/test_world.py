@@ -167,3 +167,19 @@ def test_a_solid_with_a_prescribed_motion_stirs_the_water():
     bad.motion = pbf.Motion.keyframes([(1.0, (0, 0, 0)), (0.5, (0.1, 0, 0))])
     d.solids[0] = bad
     assert d.validate().startswith("solids[0].motion.keys[1].time: keyframes must be in")
+
+
+def test_wave_makers_compute_their_stroke():
+    piston = pbf.Motion.piston(wave_height=0.02, period=1.0, depth=0.2)
+    assert piston.kind == "piston"
+    assert "H / S = 1.015" in piston.describe() and "stroke 0.0197 m" in piston.describe()
+    flap = pbf.Motion.flap(wave_height=0.02, period=1.0, depth=0.2, pivot=(0.05, 0, 0))
+    assert flap.kind == "flap" and "flap wave maker" in flap.describe()
+    d = pbf.WorldDef(name="flume")
+    d.simulation.domain = ((0, 0, 0), (1.0, 0.4, 0.1))
+    d.simulation.particle_radius = 0.01
+    d.fluid_blocks.append(pbf.FluidBlock((0.1, 0, 0), (1.0, 0.2, 0.1)))
+    paddle = pbf.SolidDescription.box((0.02, 0, 0), (0.08, 0.35, 0.1))
+    paddle.motion = pbf.Motion.piston(wave_height=0.5, period=1.0, depth=0.2)
+    d.solids.append(paddle)
+    assert d.validate().startswith("solids[0].motion.wave_height: 0.5 m waves of 1 s break")

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 namespace pbf {
 namespace {
@@ -62,7 +63,78 @@ Displacement keyframesAt(const std::vector<MotionKey>& keys, double t) {
     return d;
 }
 
+// The wave makers' ramp: 0 at t = 0 rising to 1 at t = ramp, smoothly (half
+// a cosine), and its rate.
+void ramp(double t, double seconds, double& r, double& rate) {
+    if (seconds <= 0.0 || t >= seconds) {
+        r = 1.0;
+        rate = 0.0;
+        return;
+    }
+    if (t <= 0.0) {
+        r = rate = 0.0;
+        return;
+    }
+    r = 0.5 * (1.0 - std::cos(std::numbers::pi * t / seconds));
+    rate = 0.5 * std::numbers::pi / seconds * std::sin(std::numbers::pi * t / seconds);
+}
+
+constexpr double kGravity = 9.81;  // the wave makers' theory: g of Earth, as the scenes'
+
+Vec3 horizontalUnit(const Vec3& v) {
+    return unit(Vec3{v.x, 0.0f, v.z});
+}
+
 }  // namespace
+
+double waveNumber(double period, double depth, double gravity) {
+    const double omega2 = std::pow(2.0 * std::numbers::pi / period, 2.0);
+    // Newton on f(k) = g k tanh(k h) - omega^2 from the larger of the deep-
+    // and shallow-water answers (f is increasing and convex there).
+    double k = std::max(omega2 / gravity, std::sqrt(omega2 / (gravity * depth)));
+    for (int i = 0; i < 50; ++i) {
+        const double th = std::tanh(k * depth);
+        const double f = gravity * k * th - omega2;
+        const double df = gravity * (th + k * depth * (1.0 - th * th));
+        const double step = f / df;
+        k -= step;
+        if (std::fabs(step) < 1e-14 * k) break;
+    }
+    return k;
+}
+
+WaveMaker waveMakerOf(const PrescribedMotion& m) {
+    WaveMaker w;
+    const double h = m.depth;
+    w.waveNumber = waveNumber(m.period, h, kGravity);
+    w.wavelength = 2.0 * std::numbers::pi / w.waveNumber;
+    const double kh = w.waveNumber * h;
+    const double denominator = std::sinh(2.0 * kh) + 2.0 * kh;
+    w.heightPerStroke =
+        m.kind == PrescribedMotion::Kind::Flap
+            ? 4.0 * std::sinh(kh) / kh * (kh * std::sinh(kh) - std::cosh(kh) + 1.0) / denominator
+            : 2.0 * (std::cosh(2.0 * kh) - 1.0) / denominator;
+    w.stroke = m.waveHeight / w.heightPerStroke;
+    w.rampSeconds = m.ramp < 0.0f ? 2.0 * m.period : double(m.ramp);
+    return w;
+}
+
+std::string describe(const PrescribedMotion& m) {
+    if (m.kind != PrescribedMotion::Kind::Piston && m.kind != PrescribedMotion::Kind::Flap)
+        return {};
+    const WaveMaker w = waveMakerOf(m);
+    const bool flap = m.kind == PrescribedMotion::Kind::Flap;
+    return fmt::format(
+        "{} wave maker: waves {} m high, {} s, in {} m of water: wavelength {:.4g} m (k h = "
+        "{:.3g}), H / S = {:.4g}, stroke {:.4g} m{} (amplitude {:.4g} m at the still-water "
+        "level), ramp {:.3g} s",
+        flap ? "flap" : "piston", m.waveHeight, m.period, m.depth, w.wavelength,
+        w.waveNumber * m.depth, w.heightPerStroke, w.stroke,
+        flap ? fmt::format(", {:.3g} degrees each way",
+                           std::atan(0.5 * w.stroke / m.depth) * 180.0 / std::numbers::pi)
+             : std::string(),
+        0.5 * w.stroke, w.rampSeconds);
+}
 
 Displacement displacementAt(const PrescribedMotion& m, double t) {
     Displacement d;
@@ -93,6 +165,30 @@ Displacement displacementAt(const PrescribedMotion& m, double t) {
         case PrescribedMotion::Kind::Keyframes:
             d = keyframesAt(m.keys, t);
             break;
+        case PrescribedMotion::Kind::Piston:
+        case PrescribedMotion::Kind::Flap: {
+            const WaveMaker w = waveMakerOf(m);
+            const double omega = 2.0 * std::numbers::pi / m.period;
+            double r = 0.0, rate = 0.0;
+            ramp(t, w.rampSeconds, r, rate);
+            // s(t) = r(t) sin(omega t): the paddle's excursion in units of
+            // its amplitude, and its rate.
+            const double s = r * std::sin(omega * t);
+            const double ds = rate * std::sin(omega * t) + r * omega * std::cos(omega * t);
+            const Vec3 direction = horizontalUnit(m.direction);
+            if (m.kind == PrescribedMotion::Kind::Piston) {
+                d.translation = direction * float(0.5 * w.stroke * s);
+                d.velocity = direction * float(0.5 * w.stroke * ds);
+            } else {
+                // A turn about the hinge that moves the paddle's face at the
+                // still-water level by S / 2 along `direction`.
+                const Vec3 hinge = cross(Vec3{0, 1, 0}, direction);
+                const double amplitude = std::atan(0.5 * w.stroke / m.depth);
+                d.rotation = axisAngle(hinge, float(amplitude * s));
+                d.angularVelocity = hinge * float(amplitude * ds);
+            }
+            break;
+        }
     }
     return d;
 }
@@ -137,6 +233,42 @@ std::string validate(const PrescribedMotion& m, const std::string& field) {
             if (!std::isfinite(m.speedDegrees) || m.speedDegrees == 0.0f)
                 return field + ".speed: must be a non-zero angular speed (degrees per second)";
             return {};
+        case PrescribedMotion::Kind::Piston:
+        case PrescribedMotion::Kind::Flap: {
+            if (!(m.period > 0.0f) || !std::isfinite(m.period))
+                return fmt::format("{}.period: must be positive (s), got {}", field, m.period);
+            if (!(m.depth > 0.0f) || !std::isfinite(m.depth))
+                return fmt::format(
+                    "{}.depth: must be positive (m, the still water at the "
+                    "paddle), got {}",
+                    field, m.depth);
+            if (!(m.waveHeight > 0.0f) || !std::isfinite(m.waveHeight))
+                return fmt::format("{}.wave_height: must be positive (m), got {}", field,
+                                   m.waveHeight);
+            if (!finite(m.direction) || !(std::fabs(m.direction.x) + std::fabs(m.direction.z) > 0))
+                return field + ".direction: must have a horizontal part (x or z)";
+            if (!std::isfinite(m.ramp)) return field + ".ramp: must be finite";
+            if (m.kind == PrescribedMotion::Kind::Flap && !m.hasPivot)
+                return field +
+                       ".pivot: a flap turns about its hinge: give the hinge's position "
+                       "(on the floor, below the paddle)";
+            const WaveMaker w = waveMakerOf(m);
+            const double kh = w.waveNumber * m.depth;
+            // Miche's limit: steeper waves break.
+            const double breaking = 0.142 * w.wavelength * std::tanh(kh);
+            if (m.waveHeight > breaking)
+                return fmt::format(
+                    "{}.wave_height: {} m waves of {} s break in {} m of water (wavelength "
+                    "{:.3g} m; Miche's limit 0.142 L tanh(k h) = {:.3g} m)",
+                    field, m.waveHeight, m.period, m.depth, w.wavelength, breaking);
+            if (0.5 * w.stroke > m.depth)
+                return fmt::format(
+                    "{}.wave_height: {} m waves of {} s in {} m of water need a stroke of "
+                    "{:.3g} m, more than twice the depth: beyond first-order wave-maker theory "
+                    "(lower the height or the period, or deepen the water)",
+                    field, m.waveHeight, m.period, m.depth, w.stroke);
+            return {};
+        }
         case PrescribedMotion::Kind::Keyframes: {
             const std::string where = m.source.empty() ? field + ".keys" : m.source;
             if (m.keys.size() < 2)

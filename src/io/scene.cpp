@@ -297,6 +297,13 @@ PrescribedMotion readMotion(JsonReader& solid, const std::filesystem::path& fold
         m.kind = PrescribedMotion::Kind::Rotate;
         m.axis = r.vec3("axis", m.axis);
         m.speedDegrees = r.number("speed", 0.0f);
+    } else if (type == "piston" || type == "flap") {
+        m.kind = type == "piston" ? PrescribedMotion::Kind::Piston : PrescribedMotion::Kind::Flap;
+        m.waveHeight = r.number("wave_height", 0.0f);
+        m.period = r.number("period", 0.0f);
+        m.depth = r.number("depth", 0.0f);
+        m.direction = r.vec3("direction", m.direction);
+        m.ramp = r.number("ramp", m.ramp);
     } else if (type == "keyframes") {
         m.kind = PrescribedMotion::Kind::Keyframes;
         const bool inFile = r.has("file"), inline_ = r.has("keys");
@@ -321,7 +328,10 @@ PrescribedMotion readMotion(JsonReader& solid, const std::filesystem::path& fold
             }
         }
     } else {
-        r.fail("type", "expected \"oscillate\", \"rotate\" or \"keyframes\", got \"" + type + "\"");
+        r.fail("type",
+               "expected \"oscillate\", \"rotate\", \"keyframes\", \"piston\" or "
+               "\"flap\", got \"" +
+                   type + "\"");
     }
     r.finish();
     return m;

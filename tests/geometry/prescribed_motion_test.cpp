@@ -109,6 +109,77 @@ TEST(PrescribedMotion, KeyframesInterpolateAndHoldOutsideTheirSpan) {
     for (double t : {0.7, 1.2, 1.8}) expectVelocitiesMatchTheMotion(m, Pose{}, pivot, t);
 }
 
+// First-order wave-maker theory (Dean & Dalrymple 1991, sec. 6.2): the
+// dispersion relation's root, the transfer functions' limits (piston: H/S =
+// kh in shallow water, 2 in deep; flap: kh/2 and 2 (1 - 1/kh)) and their values at
+// kh = 1 (0.9818 and 0.5281, evaluated by hand from the closed forms).
+TEST(PrescribedMotion, WaveMakersFollowBiesel) {
+    for (const double depth : {0.05, 0.3, 3.0}) {
+        const double k = waveNumber(1.2, depth);
+        const double omega = 2.0 * std::numbers::pi / 1.2;
+        EXPECT_NEAR(9.81 * k * std::tanh(k * depth), omega * omega, 1e-9 * omega * omega);
+    }
+    PrescribedMotion piston;
+    piston.kind = PrescribedMotion::Kind::Piston;
+    piston.waveHeight = 0.02f;
+    PrescribedMotion flap = piston;
+    flap.kind = PrescribedMotion::Kind::Flap;
+    // The period that makes k h = 1 in 0.3 m of water: omega^2 = g k tanh(1).
+    const double h = 0.3, k = 1.0 / h;
+    const double period = 2.0 * std::numbers::pi / std::sqrt(9.81 * k * std::tanh(1.0));
+    piston.depth = flap.depth = float(h);
+    piston.period = flap.period = float(period);
+    EXPECT_NEAR(waveMakerOf(piston).waveNumber * h, 1.0, 1e-6);
+    EXPECT_NEAR(waveMakerOf(piston).heightPerStroke, 0.9818, 1e-4);
+    EXPECT_NEAR(waveMakerOf(flap).heightPerStroke, 0.5281, 1e-4);
+    EXPECT_NEAR(waveMakerOf(piston).stroke, 0.02 / 0.9818, 1e-5);
+    // Shallow (k h = 0.05) and deep (k h = 10) water.
+    piston.depth = flap.depth = 0.002f;
+    piston.period = flap.period =
+        float(2.0 * std::numbers::pi / std::sqrt(9.81 * 25.0 * std::tanh(0.05)));
+    EXPECT_NEAR(waveMakerOf(piston).heightPerStroke, 0.05, 2e-3);
+    EXPECT_NEAR(waveMakerOf(flap).heightPerStroke, 0.025, 1e-3);
+    piston.depth = flap.depth = 2.0f;
+    piston.period = flap.period =
+        float(2.0 * std::numbers::pi / std::sqrt(9.81 * 5.0 * std::tanh(10.0)));
+    EXPECT_NEAR(waveMakerOf(piston).heightPerStroke, 2.0, 1e-3);
+    // The flap tends to the piston's 2 as 2 (1 - 1/kh): its hinge's depth
+    // matters less as the wave's motion dies out above it.
+    EXPECT_NEAR(waveMakerOf(flap).heightPerStroke, 1.8, 1e-3);
+}
+
+// The paddles move as the theory asks: after the ramp a piston's face
+// swings S / 2 each way, a flap's face at the still-water level too (a turn
+// about the hinge on the floor), and the water feels the motion's rates,
+// through the ramp as after it.
+TEST(PrescribedMotion, WaveMakersSwingTheirStroke) {
+    PrescribedMotion m;
+    m.kind = PrescribedMotion::Kind::Piston;
+    m.waveHeight = 0.03f;
+    m.period = 1.0f;
+    m.depth = 0.25f;
+    m.direction = {0, 0, 2};  // along +z
+    const double half = 0.5 * waveMakerOf(m).stroke;
+    EXPECT_EQ(waveMakerOf(m).rampSeconds, 2.0);
+    const Vec3 pivot{0.1f, 0.0f, 0.1f};
+    EXPECT_NEAR(motionAt(m, Pose{}, pivot, 2.25).pose.position.z, half, 1e-6);  // a crest
+    EXPECT_NEAR(motionAt(m, Pose{}, pivot, 2.75).pose.position.z, -half, 1e-6);
+    EXPECT_LT(std::fabs(motionAt(m, Pose{}, pivot, 0.25).pose.position.z), 0.2 * half);  // ramping
+    for (double t : {0.3, 1.1, 2.6}) expectVelocitiesMatchTheMotion(m, Pose{}, pivot, t);
+
+    m.kind = PrescribedMotion::Kind::Flap;
+    m.hasPivot = true;
+    m.pivot = {0.1f, 0.0f, 0.1f};
+    const double flapHalf = 0.5 * waveMakerOf(m).stroke;
+    const Vec3 face{0.1f, 0.25f, 0.1f};  // the paddle at the still-water level
+    const SolidMotion crest = motionAt(m, Pose{}, m.pivot, 2.25);
+    // tan(angle) = (S / 2) / h: the face moves S / 2 along z (and dips a little).
+    EXPECT_NEAR(crest.pose.toWorld(face).z - face.z,
+                flapHalf * std::cos(std::atan(flapHalf / 0.25)), 1e-6);
+    EXPECT_NEAR(crest.pose.toWorld(m.pivot).z, m.pivot.z, 1e-6);  // the hinge stays
+    for (double t : {0.3, 1.1, 2.6}) expectVelocitiesMatchTheMotion(m, Pose{}, m.pivot, t);
+}
+
 TEST(PrescribedMotion, BadMotionsAreRefusedByField) {
     PrescribedMotion m;
     m.kind = PrescribedMotion::Kind::Oscillate;
@@ -129,6 +200,31 @@ TEST(PrescribedMotion, BadMotionsAreRefusedByField) {
     m.kind = PrescribedMotion::Kind::Rotate;
     m.speedDegrees = 0.0f;
     EXPECT_NE(validate(m, "solids[0].motion").find("solids[0].motion.speed"), std::string::npos);
+    // Wave makers: a wave that breaks, a stroke beyond the theory, a flap
+    // without its hinge.
+    PrescribedMotion waves;
+    waves.kind = PrescribedMotion::Kind::Piston;
+    waves.period = 1.0f;
+    waves.depth = 0.2f;
+    waves.waveHeight = 0.3f;
+    EXPECT_NE(validate(waves, "solids[0].motion").find("solids[0].motion.wave_height: 0.3 m waves"),
+              std::string::npos)
+        << validate(waves, "solids[0].motion");
+    EXPECT_NE(validate(waves, "solids[0].motion").find("Miche"), std::string::npos);
+    waves.period = 10.0f;  // long waves in shallow water: a huge stroke
+    waves.waveHeight = 0.05f;
+    EXPECT_NE(validate(waves, "solids[0].motion").find("need a stroke of"), std::string::npos)
+        << validate(waves, "solids[0].motion");
+    waves.period = 1.0f;
+    waves.waveHeight = 0.02f;
+    EXPECT_EQ(validate(waves, "solids[0].motion"), "");
+    waves.depth = 0.0f;
+    EXPECT_NE(validate(waves, "solids[0].motion").find("solids[0].motion.depth"),
+              std::string::npos);
+    waves.depth = 0.2f;
+    waves.kind = PrescribedMotion::Kind::Flap;
+    EXPECT_NE(validate(waves, "solids[0].motion").find("solids[0].motion.pivot"),
+              std::string::npos);
 }
 
 TEST(PrescribedMotion, KeyframesFromACsvFile) {

@@ -117,6 +117,12 @@ TEST(DrivenSolids, BadMotionsAreRefusedNamingTheField) {
                   .find("solids[0].motion.keys[1].time: keyframes must be in increasing time"),
               std::string::npos);
     EXPECT_NE(sceneError(R"({"type": "wobble"})").find("solids[0].motion.type"), std::string::npos);
+    EXPECT_NE(sceneError(R"({"type": "piston", "wave_height": 0.3, "period": 1, "depth": 0.15})")
+                  .find("solids[0].motion.wave_height: 0.3 m waves of 1 s break"),
+              std::string::npos);
+    EXPECT_NE(sceneError(R"({"type": "flap", "wave_height": 0.01, "period": 1, "depth": 0.15})")
+                  .find("solids[0].motion.pivot"),
+              std::string::npos);
     EXPECT_NE(sceneError(R"({"type": "rotate", "speed": 10, "spead": 3})")
                   .find("solids[0].motion.spead: unknown key"),
               std::string::npos);

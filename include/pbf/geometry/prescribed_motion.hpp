@@ -28,16 +28,18 @@ struct MotionKey {
 struct PrescribedMotion {
     enum class Kind {
         None,       // static
-        Oscillate,  // d = amplitude sin(phi), angle = angle_amplitude sin(phi) about axis, phi = 2
-                    // pi t / period + phase
+        Oscillate,  // d = amplitude sin(phi), angle = angle_amplitude sin(phi) about axis,
+                    // phi = 2 pi t / period + phase
         Rotate,     // a constant angular speed about axis
-        Keyframes,  // linear between keys, rotations along the shortest arc; held before the first
-                    // and after the last
+        Keyframes,  // linear between keys, rotations along the shortest arc; held before the
+                    // first and after the last
+        Piston,     // wave maker: a translation along `direction` (waveMakerOf)
+        Flap,       // wave maker: a turn about the horizontal hinge at `pivot` (the floor)
     };
     Kind kind = Kind::None;
     Vec3 amplitude;               // m (oscillate)
     float angleAmplitude = 0.0f;  // degrees (oscillate)
-    float period = 1.0f;          // s (oscillate), > 0
+    float period = 1.0f;          // s (oscillate, piston, flap), > 0
     float phaseDegrees = 0.0f;    // degrees (oscillate)
     Vec3 axis{0, 1, 0};           // rotation axis (oscillate, rotate), normalised on use
     float speedDegrees = 0.0f;    // degrees per second (rotate)
@@ -45,9 +47,38 @@ struct PrescribedMotion {
     Vec3 pivot;                   // m, world
     std::vector<MotionKey> keys;  // keyframes, times increasing
     std::string source;           // keyframes read from this CSV file (for messages); may be empty
+    // Wave makers (piston, flap): the waves to make, of `waveHeight` and
+    // `period`, in still water `depth` deep at the paddle, running along
+    // `direction` (horizontal); the paddle's amplitude rises smoothly over
+    // `ramp` seconds.
+    float waveHeight = 0.0f;  // m, crest to trough
+    float depth = 0.0f;       // m
+    Vec3 direction{1, 0, 0};
+    float ramp = -1.0f;  // s; < 0: two periods
 
     bool moves() const { return kind != Kind::None; }
 };
+
+// What a wave maker does (first-order wave-maker theory, Biesel & Suquet
+// 1951; Dean & Dalrymple, "Water wave mechanics for engineers and
+// scientists", 1991, sec. 6.2): the wave number k of the period in that
+// depth (omega^2 = g k tanh(k h)) and the stroke S (the paddle's excursion
+// at the still-water level, twice its amplitude) that makes waves of height
+// H far from the paddle:
+//   piston: H / S = 2 (cosh 2kh - 1) / (sinh 2kh + 2kh)
+//   flap:   H / S = 4 sinh(kh) / (kh) (kh sinh kh - cosh kh + 1) / (sinh 2kh + 2kh)
+struct WaveMaker {
+    double waveNumber = 0.0;       // k, 1/m
+    double wavelength = 0.0;       // 2 pi / k, m
+    double heightPerStroke = 0.0;  // H / S
+    double stroke = 0.0;           // S, m
+    double rampSeconds = 0.0;
+};
+WaveMaker waveMakerOf(const PrescribedMotion& motion);  // kind Piston or Flap
+// The wave number of `period` (s) in water `depth` (m) deep, 1/m.
+double waveNumber(double period, double depth, double gravity = 9.81);
+// One line for the run's log ("piston wave maker: ..."); empty for other motions.
+std::string describe(const PrescribedMotion& motion);
 
 // The displacement at time t and its rates: the velocity of the displaced
 // pivot and the angular velocity (world axes).
