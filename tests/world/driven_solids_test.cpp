@@ -3,9 +3,11 @@
 // and scene files name a bad motion's field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "pbf/io/scene.hpp"
 #include "pbf/world/world.hpp"
@@ -40,13 +42,24 @@ double spin(const pbf::World& world) {
 // A paddle turning about +y spins the water up the same way (its angular
 // momentum about y grows with the sense of the turn), and the water never
 // enters it: the boundary sees the paddle where it is, moving as it moves.
-TEST(DrivenSolids, ATurningPaddleSpinsTheWaterItsWay) {
-    for (const float sense : {1.0f, -1.0f}) {
+// On every backend (the motion lives in the World; a backend sees the pose
+// and the velocity through the solids).
+class DrivenSolidsOn : public ::testing::TestWithParam<pbf::BackendKind> {};
+
+TEST_P(DrivenSolidsOn, ATurningPaddleSpinsTheWaterItsWay) {
+    if (!pbf::deviceInfo(GetParam()).usable) GTEST_SKIP() << "backend not usable here";
+    pbf::WorldOptions options;
+    options.backend = GetParam();
+    const std::vector<float> senses = GetParam() == pbf::BackendKind::Cpu
+                                          ? std::vector<float>{1.0f, -1.0f}
+                                          : std::vector<float>{-1.0f};
+    for (const float sense : senses) {
         SCOPED_TRACE(sense);
         pbf::World world(
             pbf::parseScene(mixerJson(R"({"type": "rotate", "axis": [0, 1, 0], "speed": )" +
                                       std::to_string(120.0f * sense) + "}"),
-                            "mixer.json"));
+                            "mixer.json"),
+            options);
         double previous = 0.0;
         for (int frame = 1; frame <= 30; ++frame) {
             const pbf::FrameReport r = pbf::test::stepFrame(world);
@@ -66,6 +79,15 @@ TEST(DrivenSolids, ATurningPaddleSpinsTheWaterItsWay) {
         EXPECT_NEAR(end.z, 0.2 - sense * 0.1 * std::sin(120.0 * M_PI / 180.0), 1e-4);
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, DrivenSolidsOn,
+                         ::testing::Values(pbf::BackendKind::Cpu, pbf::BackendKind::Reference,
+                                           pbf::BackendKind::CudaOnCpu),
+                         [](const auto& param) {
+                             std::string name(pbf::backendName(param.param));
+                             std::replace(name.begin(), name.end(), '-', '_');
+                             return name;
+                         });
 
 // The state at frame 10 of a run with an oscillating paddle, restored into a
 // new World, continues bit for bit as the run did: the motion is a function
