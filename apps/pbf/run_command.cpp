@@ -131,6 +131,12 @@ int runScene(RunArguments args) {
     }
     options.onStart = [&](const World& world) {
         if (args.quiet) return;
+        const LocalFrame& frame = world.localFrame();
+        if (frame.shifted())
+            fmt::print(stderr,
+                       "pbf run: the domain is far from the origin: the solver keeps positions "
+                       "relative to ({}, {}, {}) m (the solids below are in that frame)\n",
+                       frame.origin.x, frame.origin.y, frame.origin.z);
         const SolidSet& solids = world.solids();
         for (std::size_t k = 0; k < solids.size(); ++k)
             fmt::print(stderr, "pbf run: solid {}: {}\n", k, solids.shape(k).describe());

@@ -51,6 +51,18 @@ SolidDescription solid(Kind kind) {
     return s;
 }
 
+PrescribedMotion waveMaker(PrescribedMotion::Kind kind, float waveHeight, float period,
+                           float depth, const Vec3& direction, float ramp) {
+    PrescribedMotion motion;
+    motion.kind = kind;
+    motion.waveHeight = waveHeight;
+    motion.period = period;
+    motion.depth = depth;
+    motion.direction = direction;
+    motion.ramp = ramp;
+    return motion;
+}
+
 // A solid's prescribed motion (pbf/geometry/prescribed_motion.hpp):
 // Motion.oscillate / rotate / keyframes, the scene file's "motion".
 void bindMotion(py::module_& m) {
@@ -123,14 +135,7 @@ void bindMotion(py::module_& m) {
         .def_static(
             "piston",
             [](float waveHeight, float period, float depth, const Vec3& direction, float ramp) {
-                PrescribedMotion motion;
-                motion.kind = MKind::Piston;
-                motion.waveHeight = waveHeight;
-                motion.period = period;
-                motion.depth = depth;
-                motion.direction = direction;
-                motion.ramp = ramp;
-                return motion;
+                return waveMaker(MKind::Piston, waveHeight, period, depth, direction, ramp);
             },
             py::arg("wave_height"), py::arg("period"), py::arg("depth"),
             py::arg("direction") = Vec3{1, 0, 0}, py::arg("ramp") = -1.0f,
@@ -141,13 +146,8 @@ void bindMotion(py::module_& m) {
             "flap",
             [](float waveHeight, float period, float depth, const Vec3& pivot,
                const Vec3& direction, float ramp) {
-                PrescribedMotion motion;
-                motion.kind = MKind::Flap;
-                motion.waveHeight = waveHeight;
-                motion.period = period;
-                motion.depth = depth;
-                motion.direction = direction;
-                motion.ramp = ramp;
+                PrescribedMotion motion =
+                    waveMaker(MKind::Flap, waveHeight, period, depth, direction, ramp);
                 motion.hasPivot = true;
                 motion.pivot = pivot;
                 return motion;

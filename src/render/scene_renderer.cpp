@@ -478,13 +478,21 @@ SceneRenderer::~SceneRenderer() = default;
 // near the origin.
 namespace {
 
-void shiftPoints(std::vector<float>& data, std::size_t stride, const LocalFrame& frame) {
+// `world` when the frame is the world's, else a copy in `shifted` whose
+// points (x, y, z first in each `stride` floats) are in the frame.
+template <class Points>
+const Points& inFrame(const Points& world, Points& shifted, std::size_t stride,
+                      const LocalFrame& frame) {
+    if (!frame.shifted()) return world;
+    shifted = world;
+    std::vector<float>& data = shifted.data;
     for (std::size_t k = 0; k + 2 < data.size(); k += stride) {
         const Vec3 p = frame.toFrame(Vec3{data[k], data[k + 1], data[k + 2]});
         data[k] = p.x;
         data[k + 1] = p.y;
         data[k + 2] = p.z;
     }
+    return shifted;
 }
 
 }  // namespace
@@ -499,11 +507,7 @@ void SceneRenderer::setParticleRadius(float radius) {
 }
 void SceneRenderer::setSolids(const SolidMesh& world) {
     SolidMesh shifted;
-    const SolidMesh& mesh = impl_->frame.shifted() ? shifted : world;
-    if (impl_->frame.shifted()) {
-        shifted = world;
-        shiftPoints(shifted.data, 6, impl_->frame);
-    }
+    const SolidMesh& mesh = inFrame(world, shifted, 6, impl_->frame);
     glBindBuffer(GL_ARRAY_BUFFER, impl_->solidVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.data.size() * sizeof(float)), mesh.data.data(),
                  GL_STATIC_DRAW);
@@ -521,11 +525,7 @@ std::size_t SceneRenderer::diffuseCount() const {
 
 void SceneRenderer::uploadDiffuse(const RenderParticles& world) {
     RenderParticles shifted;
-    const RenderParticles& diffuse = impl_->frame.shifted() ? shifted : world;
-    if (impl_->frame.shifted()) {
-        shifted = world;
-        shiftPoints(shifted.data, 4, impl_->frame);
-    }
+    const RenderParticles& diffuse = inFrame(world, shifted, 4, impl_->frame);
     glBindBuffer(GL_ARRAY_BUFFER, impl_->diffuseVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(diffuse.data.size() * sizeof(float)),
                  diffuse.data.data(), GL_STREAM_DRAW);
@@ -535,11 +535,7 @@ void SceneRenderer::uploadDiffuse(const RenderParticles& world) {
 
 void SceneRenderer::upload(const RenderParticles& world) {
     RenderParticles shifted;
-    const RenderParticles& particles = impl_->frame.shifted() ? shifted : world;
-    if (impl_->frame.shifted()) {
-        shifted = world;
-        shiftPoints(shifted.data, 4, impl_->frame);
-    }
+    const RenderParticles& particles = inFrame(world, shifted, 4, impl_->frame);
     glBindBuffer(GL_ARRAY_BUFFER, impl_->particleVbo);
     glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(particles.data.size() * sizeof(float)),
                  particles.data.data(), GL_STREAM_DRAW);
