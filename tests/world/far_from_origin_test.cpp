@@ -68,13 +68,15 @@ TEST(FarFromTheOrigin, TheSameTankSettlesTheSameAnywhere) {
         // few ulps short of it and lost a row before the lattice count
         // allowed for its corners' rounding.
         EXPECT_EQ(far.count, here.count);
-        // The same water: height to 0.2 mm, density to 0.05 %, residual
-        // motion at rest within a factor 1.6. In world coordinates the tank
-        // at 10 km stood 5.4 mm higher, 4.7 % less dense, and moved at
-        // 323 mm/s against 19.
-        EXPECT_NEAR(far.meanHeight, here.meanHeight, 2e-4);
-        EXPECT_NEAR(far.meanDensity, here.meanDensity, 5e-4 * here.meanDensity);
-        EXPECT_LT(far.medianSpeed, 1.6 * here.medianSpeed);
+        // The same water, to what a last-bit change anywhere moves a tank
+        // still sloshing after 2 s (the frame at 100 m, or another compiler's
+        // rounding, moves the mean density by up to 0.06 % and the height by
+        // 0.2 mm): height to 1 mm, density to 0.5 %, residual motion within a
+        // factor 3. In world coordinates the tank at 10 km stood 5.4 mm
+        // higher, 4.7 % less dense, and moved at 323 mm/s against 19.
+        EXPECT_NEAR(far.meanHeight, here.meanHeight, 1e-3);
+        EXPECT_NEAR(far.meanDensity, here.meanDensity, 5e-3 * here.meanDensity);
+        EXPECT_LT(far.medianSpeed, 3.0 * here.medianSpeed);
     }
 }
 
