@@ -24,6 +24,8 @@ from ._pbf import (
     GuardParams,
     IoError,
     Motion,
+    OutletDescription,
+    OutletList,
     OutputParams,
     RigidBody,
     RigidBodyDescription,
@@ -54,7 +56,8 @@ from .ply import read_ply
 
 __all__ = [
     "Aabb", "ArtificialPressureParams", "EmitterDescription", "EmitterList", "FluidBlock",
-    "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "Motion", "OutputParams",
+    "FluidBlockList", "FluidParams", "FrameReport", "GuardParams", "IoError", "Motion", "OutletDescription",
+    "OutletList", "OutputParams",
     "RigidBody", "RigidBodyDescription", "RigidBodyList", "RunSummary", "Scene", "SceneError", "Settings", "SimulationParams", "SolidDescription",
     "SolidList", "SolverParams", "StageTimes", "StateError", "StateStatistics", "Transform",
     "World", "WorldDef", "hardware_threads", "load_scene", "parameters", "read_ply", "run", "set_threads",

@@ -27,6 +27,7 @@
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::FluidBlock>)
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::SolidDescription>)
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::EmitterDescription>)
+PYBIND11_MAKE_OPAQUE(std::vector<pbf::OutletDescription>)
 PYBIND11_MAKE_OPAQUE(std::vector<pbf::RigidBodyDescription>)
 
 namespace pbf::python {

@@ -390,6 +390,49 @@ void bindEmitters(py::module_& m) {
         });
 }
 
+void bindOutlets(py::module_& m) {
+    py::class_<OutletDescription>(
+        m, "OutletDescription",
+        "Where water leaves the simulation: a box, or the side of a plane its normal points to "
+        "(docs/scenes.md, \"outlets\").")
+        .def_static(
+            "box",
+            [](const Vec3& min, const Vec3& max) {
+                OutletDescription o;
+                o.region.kind = OutletRegion::Kind::Box;
+                o.region.box = {min, max};
+                return o;
+            },
+            py::arg("min"), py::arg("max"))
+        .def_static(
+            "plane",
+            [](const Vec3& point, const Vec3& normal) {
+                OutletDescription o;
+                o.region.kind = OutletRegion::Kind::HalfSpace;
+                o.region.point = point;
+                const float n = length(normal);
+                o.region.normal = n > 0.0f ? normal * (1.0f / n) : normal;  // 0: validate() says
+                return o;
+            },
+            py::arg("point"), py::arg("normal"))
+        .def_property_readonly("type",
+                               [](const OutletDescription& o) {
+                                   return o.region.kind == OutletRegion::Kind::Box ? "box"
+                                                                                   : "plane";
+                               })
+        .def_property_readonly("min", [](const OutletDescription& o) { return o.region.box.min; })
+        .def_property_readonly("max", [](const OutletDescription& o) { return o.region.box.max; })
+        .def_property_readonly("point", [](const OutletDescription& o) { return o.region.point; })
+        .def_property_readonly("normal", [](const OutletDescription& o) { return o.region.normal; })
+        .def("__repr__", [](const py::object& self) {
+            const bool box =
+                self.cast<const OutletDescription&>().region.kind == OutletRegion::Kind::Box;
+            return reprOf(self, "OutletDescription",
+                          box ? std::initializer_list<const char*>{"type", "min", "max"}
+                              : std::initializer_list<const char*>{"type", "point", "normal"});
+        });
+}
+
 // Replaces `target` by the Python list `items` when one was given.
 template <class T>
 void assignIfGiven(std::vector<T>& target, const py::handle& items) {
@@ -403,12 +446,14 @@ void bindWorldDef(py::module_& m) {
     py::bind_vector<std::vector<FluidBlock>>(m, "FluidBlockList").def("__repr__", listRepr);
     py::bind_vector<std::vector<SolidDescription>>(m, "SolidList").def("__repr__", listRepr);
     py::bind_vector<std::vector<EmitterDescription>>(m, "EmitterList").def("__repr__", listRepr);
+    py::bind_vector<std::vector<OutletDescription>>(m, "OutletList").def("__repr__", listRepr);
     py::bind_vector<std::vector<RigidBodyDescription>>(m, "RigidBodyList")
         .def("__repr__", listRepr);
     // Plain Python lists assign to the definition's lists.
     py::implicitly_convertible<py::list, std::vector<FluidBlock>>();
     py::implicitly_convertible<py::list, std::vector<SolidDescription>>();
     py::implicitly_convertible<py::list, std::vector<EmitterDescription>>();
+    py::implicitly_convertible<py::list, std::vector<OutletDescription>>();
     py::implicitly_convertible<py::list, std::vector<RigidBodyDescription>>();
 
     py::class_<WorldDef>(m, "WorldDef",
@@ -436,6 +481,8 @@ void bindWorldDef(py::module_& m) {
         .def_readwrite("fluid_blocks", &WorldDef::fluidBlocks)
         .def_readwrite("solids", &WorldDef::solids)
         .def_readwrite("emitters", &WorldDef::emitters)
+        .def_readwrite("outlets", &WorldDef::outlets,
+                       "pbf.OutletDescription list (docs/scenes.md, \"outlets\")")
         .def_readwrite("rigid_bodies", &WorldDef::rigidBodies,
                        "pbf.RigidBodyDescription list (docs/scenes.md, \"rigid_bodies\")")
         .def_property("fps", floatGetter(&WorldDef::fps), floatSetter(&WorldDef::fps),
@@ -450,7 +497,7 @@ void bindWorldDef(py::module_& m) {
         .def("__repr__", [](const py::object& self) {
             return reprOf(self, "WorldDef",
                           {"name", "simulation", "fluid_blocks", "solids", "rigid_bodies",
-                           "emitters", "fps", "guard"});
+                           "emitters", "outlets", "fps", "guard"});
         });
 }
 
@@ -505,6 +552,7 @@ void bindDefinition(py::module_& m) {
     bindSolids(m);
     bindBodyDescription(m);
     bindEmitters(m);
+    bindOutlets(m);
     bindWorldDef(m);
     bindScene(m);
 }

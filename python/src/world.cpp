@@ -59,6 +59,8 @@ void bindReports(py::module_& m) {
         .def_readonly("time", &FrameReport::time, "simulated seconds")
         .def_readonly("substeps", &FrameReport::substeps, "solver steps in this frame")
         .def_readonly("iterations", &FrameReport::iterations, "density iterations per substep")
+        .def_readonly("emitted", &FrameReport::emitted, "particles the emitters added this frame")
+        .def_readonly("removed", &FrameReport::removed, "particles the outlets removed this frame")
         .def_readonly("step_ms", &FrameReport::stepMs, "average wall-clock ms per substep")
         .def_readonly("stage_ms", &FrameReport::stageMs, "summed over the frame's substeps")
         .def_readonly("statistics", &FrameReport::state)
@@ -70,6 +72,8 @@ void bindReports(py::module_& m) {
                 d["time"] = r.time;
                 d["substeps"] = r.substeps;
                 d["iterations"] = r.iterations;
+                d["emitted"] = r.emitted;
+                d["removed"] = r.removed;
                 d["step_ms"] = r.stepMs;
                 d["particles"] = r.state.particles;
                 d["average_density_error"] = r.state.averageDensityError;
@@ -176,6 +180,14 @@ void bindWorldClass(py::module_& m) {
             "skipped_particles",
             [](WorldHandle& h) { return h.locked([](World& w) { return w.skippedParticles(); }); },
             "fluid-block sites left empty because a solid was there")
+        .def_property_readonly(
+            "emitted_particles",
+            [](WorldHandle& h) { return h.locked([](World& w) { return w.emittedParticles(); }); },
+            "particles the emitters added so far")
+        .def_property_readonly(
+            "removed_particles",
+            [](WorldHandle& h) { return h.locked([](World& w) { return w.removedParticles(); }); },
+            "particles the outlets removed so far")
         .def_property_readonly("device",
                                [](WorldHandle& h) {
                                    return h.locked([](World& w) {

@@ -183,3 +183,32 @@ def test_wave_makers_compute_their_stroke():
     paddle.motion = pbf.Motion.piston(wave_height=0.5, period=1.0, depth=0.2)
     d.solids.append(paddle)
     assert d.validate().startswith("solids[0].motion.wave_height: 0.5 m waves of 1 s break")
+
+
+def test_outlets_drain_the_water_and_the_views_keep_the_ids_that_stay():
+    d = pbf.WorldDef(name="drain")
+    d.simulation.domain = ((0, 0, 0), (0.4, 0.3, 0.2))
+    d.simulation.particle_radius = 0.01
+    d.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (0.2, 0.2, 0.2)))
+    d.outlets.append(pbf.OutletDescription.plane((0.3, 0, 0), (1, 0, 0)))
+    d.outlets.append(pbf.OutletDescription.box((0.08, 0.08, 0.08), (0.12, 0.12, 0.12)))
+    w = pbf.World(d)
+    reports = w.step_frames(6)
+    removed = sum(r.removed for r in reports)
+    assert removed == w.removed_particles > 8  # the hole's 8 and the drain's
+    assert w.particle_count == 1000 - removed and w.emitted_particles == 0
+    ids = w.ids
+    assert ids.shape == (w.particle_count,)
+    assert (np.diff(ids.astype(np.int64)) > 0).all() and ids[-1] >= w.particle_count  # gaps
+    assert (w.positions[:, 0] <= 0.3).all()
+    # Rows are particles by id: the row of the highest id, moved into the
+    # drain, leaves at the next step; the others stay.
+    last = int(ids[-1])
+    w.positions[-1] = (0.35, 0.05, 0.1)
+    w.step_frame()
+    assert last not in set(w.ids.tolist())
+    bad = pbf.WorldDef(name="bad")
+    bad.simulation = d.simulation
+    bad.fluid_blocks.append(pbf.FluidBlock((0, 0, 0), (0.2, 0.2, 0.2)))
+    bad.outlets.append(pbf.OutletDescription.plane((0, 0, 0), (0, 0, 0)))
+    assert bad.validate() == "outlets[0].normal: must be a non-zero vector"

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "backend/outlets.hpp"
+
 namespace pbf {
 
 void HostBackend::append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
@@ -11,6 +13,15 @@ void HostBackend::append(std::span<const Vec3> positions, std::span<const Vec3> 
     checkParticlesPerProcess(kind(), store_.size(), positions.size());
     for (std::size_t k = 0; k < positions.size(); ++k)
         store_.add(positions[k], velocities[k], density);
+}
+
+std::size_t HostBackend::removeInside(std::span<const OutletRegion> outlets) {
+    bool anyInside = false;
+    const std::vector<std::uint32_t> kept = detail::particlesOutside(store_, outlets, anyInside);
+    if (!anyInside) return 0;
+    const std::size_t removed = store_.size() - kept.size();
+    store_.keepOnly(kept);
+    return removed;
 }
 
 float HostBackend::maxSpeed() const {

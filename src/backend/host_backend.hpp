@@ -15,6 +15,7 @@ class HostBackend : public Backend {
     std::size_t size() const override { return store_.size(); }
     void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
                 float density) override;
+    std::size_t removeInside(std::span<const OutletRegion> outlets) override;
     const StageTimes& lastStageTimes() const override { return times_; }
     std::span<const SolidReaction> lastReactions() const override { return lastReactions_; }
 

@@ -150,6 +150,18 @@ void ParticleStore::keepRange(std::size_t begin, std::size_t end) {
     });
 }
 
+void ParticleStore::keepOnly(std::span<const std::uint32_t> kept) {
+    const std::size_t n = size();
+    forEachField([&](const ParticleFieldInfo&, auto& a) {
+        for (auto* values : componentsOf(a)) {
+            if (values->size() != n) continue;  // an optional field that is off
+            // In place: kept[j] >= j, so no value is overwritten before it is read.
+            for (std::size_t j = 0; j < kept.size(); ++j) (*values)[j] = (*values)[kept[j]];
+            values->resize(kept.size());
+        }
+    });
+}
+
 std::vector<std::uint32_t> ParticleStore::orderById() const {
     std::vector<std::uint32_t> order(size());
     std::iota(order.begin(), order.end(), 0u);

@@ -53,6 +53,7 @@ std::string serialize(const Checkpoint& c) {
     w.value(t.maxInsideSolid);
     w.string(t.statsCsv);
     w.string(t.bodiesCsv);
+    w.value(c.removed);
     return w.bytes();
 }
 
@@ -78,6 +79,7 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     t.maxInsideSolid = r.value<std::uint64_t>("max inside solid");
     t.statsCsv = r.string("stats.csv");
     t.bodiesCsv = r.string("bodies.csv");
+    c.removed = r.value<std::uint64_t>("removed particles");
     if (!r.atEnd()) fail(name, "corrupt checkpoint: trailing bytes");
 
     // The checksum passed, so these only fail for a file written by a buggy
@@ -106,6 +108,7 @@ Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint)
     c.particles = std::move(state.particles);
     c.emitters = std::move(state.emitters);
     c.bodies = std::move(state.bodies);
+    c.removed = state.removed;
     return c;
 }
 
@@ -136,6 +139,7 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
     state.particles.predicted = state.particles.position;
     state.emitters = c.emitters;
     state.bodies = c.bodies;
+    state.removed = c.removed;
     state.frame = c.frame;
     state.time = c.time;
     world.restoreState(std::move(state));
@@ -170,7 +174,8 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
     if (version < kCheckpointFormatVersion)
         fail(name, fmt::format("checkpoint format version {} was written by an older pbf (this "
                                "pbf reads version {}: 64-bit particle ids since version 5, "
-                               "positions in the world's local frame since 6); its run cannot "
+                               "positions in the world's local frame since 6, outlets' counts "
+                               "since 7); its run cannot "
                                "be resumed: start it again without --resume",
                                version, kCheckpointFormatVersion));
     if (version != kCheckpointFormatVersion)

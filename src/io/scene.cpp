@@ -401,6 +401,33 @@ void readEmitters(JsonReader& root, Scene& scene) {
     }
 }
 
+// Outlets: {"type": "box", "min", "max"} or {"type": "plane", "point",
+// "normal"} (the side the normal points to is the outlet).
+void readOutlets(JsonReader& root, Scene& scene) {
+    const json& outlets = root.array("outlets");
+    for (std::size_t i = 0; i < outlets.size(); ++i) {
+        OutletDescription o;
+        o.field = "outlets[" + std::to_string(i) + "]";
+        JsonReader r(outlets[i], o.field, scene.source);
+        const std::string type = r.string("type", "");
+        if (type == "box") {
+            o.region.kind = OutletRegion::Kind::Box;
+            o.region.box = readBox(r);
+        } else if (type == "plane") {
+            o.region.kind = OutletRegion::Kind::HalfSpace;
+            o.region.point = r.requiredVec3("point");
+            const Vec3 normal = r.requiredVec3("normal");
+            if (!(length(normal) > 0.0f) || !std::isfinite(length(normal)))
+                r.fail("normal", "must be a non-zero vector");
+            o.region.normal = normal * (1.0f / length(normal));
+        } else {
+            r.fail("type", "expected \"box\" or \"plane\", got \"" + type + "\"");
+        }
+        r.finish();
+        scene.outlets.push_back(o);
+    }
+}
+
 // The fingerprint covers everything that shapes the simulated states. The
 // document is hashed as nlohmann::json dumps it (keys sorted, numbers
 // normalised), so formatting and key order do not matter, and fields added
@@ -504,6 +531,7 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
     readSolids(root, scene);
     readRigidBodies(root, scene);
     readEmitters(root, scene);
+    readOutlets(root, scene);
     readFluidBlocks(root, scene);
     root.finish();
     if (const std::string problem = validate(static_cast<const WorldDef&>(scene)); !problem.empty())

@@ -68,6 +68,9 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     j["max_escaped"] = s.maxEscaped;
     j["max_inside_solid"] = s.maxInsideSolid;
     j["skipped_in_solids"] = s.skippedInSolids;
+    // The water's balance: particles = the fluid blocks' + emitted - removed.
+    j["emitted_particles"] = world.emittedParticles();
+    j["removed_particles"] = world.removedParticles();
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
     j["backend"] = std::string(backendName(backend));

@@ -63,6 +63,10 @@ WorldDef inFrame(const WorldDef& def, const LocalFrame& frame) {
     for (SolidDescription& s : local.solids) place(s);
     for (RigidBodyDescription& body : local.rigidBodies) place(body.shape);
     for (EmitterDescription& e : local.emitters) e.position = frame.toFrame(e.position);
+    for (OutletDescription& o : local.outlets) {
+        o.region.box = {frame.toFrame(o.region.box.min), frame.toFrame(o.region.box.max)};
+        o.region.point = frame.toFrame(o.region.point);
+    }
     return local;
 }
 

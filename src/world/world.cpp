@@ -52,7 +52,14 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
     backend_->upload(createParticles(def_, solids_.get(), &skipped_, local_));
     for (const EmitterDescription& e : localDef_.emitters)
         emitters_.emplace_back(e, localSettings_);
+    for (const OutletDescription& o : localDef_.outlets) outlets_.push_back(o.region);
     speedLimit_ = pbf::speedLimit(def_);
+}
+
+std::uint64_t World::emittedParticles() const {
+    std::uint64_t emitted = 0;
+    for (const Emitter& e : emitters_) emitted += e.emitted();
+    return emitted;
 }
 
 World::~World() = default;
@@ -167,6 +174,7 @@ FrameResult World::stepFrame() {
                 emitter.emit(stepStart, dt, solids_->empty() ? nullptr : solids_.get(), emitted);
                 const std::vector<Vec3> velocities(emitted.size(), emitter.velocity());
                 backend_->append(emitted, velocities, settings_.fluid.restDensity);
+                report.emitted += emitted.size();
             }
             // Two-way coupling (bodies/rigid_bodies.hpp): the fluid steps
             // against the bodies' surfaces where they will be, then its
@@ -183,6 +191,13 @@ FrameResult World::stepFrame() {
             const auto placeEnd = std::chrono::steady_clock::now();
             backend_->step(context(), static_cast<float>(dt));
             report.stageMs += backend_->lastStageTimes();
+            // Water that reached an outlet leaves before anything reads the
+            // state (the guard, the bodies' next substep, the frame's files).
+            if (!outlets_.empty()) {
+                const std::size_t removed = backend_->removeInside(outlets_);
+                report.removed += removed;
+                removed_ += removed;
+            }
             const auto bodiesStart = std::chrono::steady_clock::now();
             bodies_->advance(dt, settings_.gravity, backend_->lastReactions(), *solids_);
             indexSolids();
@@ -264,6 +279,26 @@ ParticleArrays& World::arraysById() {
     return *arrays_;
 }
 
+namespace {
+
+// The row of each particle (memory order) in the id-ordered arrays: its id
+// while the ids are 0 .. n - 1 (ids are unique, so all below n means
+// exactly those), else its id's rank (after an outlet removed some).
+std::vector<std::uint32_t> rowsById(const ParticleStore& p) {
+    const std::size_t n = p.size();
+    std::vector<std::uint32_t> rows(n);
+    const auto largest = std::max_element(p.id.begin(), p.id.end());
+    if (n == 0 || *largest < n) {
+        for (std::size_t i = 0; i < n; ++i) rows[i] = std::uint32_t(p.id[i]);
+        return rows;
+    }
+    const std::vector<std::uint32_t> order = p.orderById();
+    for (std::size_t k = 0; k < n; ++k) rows[order[k]] = std::uint32_t(k);
+    return rows;
+}
+
+}  // namespace
+
 // Copies the backend's state into the id-ordered arrays (new buffers when
 // the count changed, so that views of the old ones stay valid).
 void World::refreshArrays() {
@@ -280,11 +315,9 @@ void World::refreshArrays() {
     }
     float* x = a.position->data();
     float* v = a.velocity->data();
+    const std::vector<std::uint32_t> rows = rowsById(p);
     for (std::size_t i = 0; i < n; ++i) {
-        const std::uint64_t k = p.id[i];
-        if (k >= n)
-            throw std::logic_error("particle ids are not 0 .. count - 1 (id " + std::to_string(k) +
-                                   ")");
+        const std::size_t k = rows[i];
         x[3 * k + 0] = p.position.x[i];
         x[3 * k + 1] = p.position.y[i];
         x[3 * k + 2] = p.position.z[i];
@@ -292,7 +325,7 @@ void World::refreshArrays() {
         v[3 * k + 1] = p.velocity.y[i];
         v[3 * k + 2] = p.velocity.z[i];
         (*a.density)[k] = p.density[i];
-        (*a.id)[k] = k;
+        (*a.id)[k] = p.id[i];
     }
     if (local_.shifted()) shownPositions_.assign(a.position->begin(), a.position->end());
 }
@@ -311,8 +344,9 @@ void World::applyHostEdits() {
     const float* x = arrays_->position->data();
     const float* v = arrays_->velocity->data();
     const bool shifted = local_.shifted();
+    const std::vector<std::uint32_t> rows = rowsById(p);
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const std::uint64_t k = p.id[i];
+        const std::size_t k = rows[i];
         const Vec3 shown{x[3 * k], x[3 * k + 1], x[3 * k + 2]};
         if (!shifted)
             p.position.set(i, shown);
@@ -410,6 +444,7 @@ WorldState World::captureState() const {
     backend_->download(state.particles);
     for (const Emitter& e : emitters_) state.emitters.push_back(e.state());
     state.bodies = bodies_->states();
+    state.removed = removed_;
     state.frame = frame_;
     state.time = time_;
     return state;
@@ -429,6 +464,7 @@ void World::restoreState(WorldState state) {
     bodies_->setStates(std::move(state.bodies), *solids_);
     indexSolids();
     backend_->upload(std::move(state.particles));
+    removed_ = state.removed;
     frame_ = state.frame;
     time_ = state.time;
     downloadedValid_ = false;

@@ -181,6 +181,58 @@ std::string validateEmitters(const WorldDef& def) {
     return {};
 }
 
+// Whether every corner of `box` (so all of it) is inside the outlet.
+bool covers(const OutletRegion& outlet, const Aabb& box) {
+    for (int corner = 0; corner < 8; ++corner)
+        if (!outlet.contains({corner & 1 ? box.max.x : box.min.x,
+                              corner & 2 ? box.max.y : box.min.y,
+                              corner & 4 ? box.max.z : box.min.z}))
+            return false;
+    return true;
+}
+
+std::string validateOutlets(const WorldDef& def) {
+    const Aabb& domain = def.simulation.domain;
+    for (std::size_t i = 0; i < def.outlets.size(); ++i) {
+        const OutletRegion& o = def.outlets[i].region;
+        const std::string field = fieldOf(def.outlets[i].field, "outlets", i);
+        if (o.kind == OutletRegion::Kind::Box) {
+            if (!finite(o.box.min)) return field + ".min: must be finite";
+            if (!finite(o.box.max)) return field + ".max: must be finite";
+            if (!positiveBox(o.box)) return field + ".max: must be greater than min on every axis";
+            if (!overlaps(o.box, domain))
+                return field + ".min: the outlet must overlap the domain (no water could reach it)";
+        } else {
+            if (!finite(o.point)) return field + ".point: must be finite";
+            if (!finite(o.normal) || !(std::fabs(length(o.normal) - 1.0f) < 1e-3f))
+                return field + ".normal: must be a non-zero vector";
+            OutletRegion inside = o;  // the domain's side that stays
+            inside.normal = -1.0f * o.normal;
+            if (covers(inside, domain))
+                return field +
+                       ".point: the plane leaves the whole domain outside the outlet "
+                       "(no water could reach it)";
+        }
+        if (covers(o, domain))
+            return field +
+                   ": the outlet covers the whole domain (every particle would leave "
+                   "at the first step)";
+        for (std::size_t b = 0; b < def.fluidBlocks.size(); ++b)
+            if (covers(o, def.fluidBlocks[b].box))
+                return fmt::format(
+                    "{}: the outlet covers all of fluid_blocks[{}] (its water would leave at "
+                    "the first step)",
+                    field, b);
+        for (std::size_t e = 0; e < def.emitters.size(); ++e)
+            if (o.contains(def.emitters[e].position))
+                return fmt::format(
+                    "{}: the outlet contains the nozzle of emitters[{}] (its water would leave "
+                    "as it is emitted)",
+                    field, e);
+    }
+    return {};
+}
+
 }  // namespace
 
 std::string validate(const WorldDef& def) {
@@ -195,7 +247,8 @@ std::string validate(const WorldDef& def) {
     if (std::string problem = validateBlocks(def); !problem.empty()) return problem;
     if (std::string problem = validateSolids(def); !problem.empty()) return problem;
     if (std::string problem = validateRigidBodies(def); !problem.empty()) return problem;
-    return validateEmitters(def);
+    if (std::string problem = validateEmitters(def); !problem.empty()) return problem;
+    return validateOutlets(def);
 }
 
 std::size_t countParticles(const WorldDef& def) {

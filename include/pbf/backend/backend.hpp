@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "pbf/backend/statistics.hpp"
+#include "pbf/core/outlet_region.hpp"
 #include "pbf/core/params.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/solver_constants.hpp"
@@ -131,6 +132,11 @@ class Backend {
     // density starts at `density`.
     virtual void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
                         float density) = 0;
+    // Removes the particles whose position is in any of `outlets`; the
+    // others keep their order and their ids (which are never reused).
+    // Returns how many were removed (on all ranks: collective for a
+    // distributed backend). Nothing happens without outlets.
+    virtual std::size_t removeInside(std::span<const OutletRegion> outlets) = 0;
     // Advances every particle by dt seconds.
     virtual void step(const SolverContext& context, float dt) = 0;
     virtual const StageTimes& lastStageTimes() const = 0;

@@ -137,6 +137,9 @@ class ParticleStore {
     void reorder(std::span<const std::uint32_t> perm, std::span<std::byte> scratch = {});
     // Keeps the particles [begin, end) (in order) and drops the others.
     void keepRange(std::size_t begin, std::size_t end);
+    // Keeps the particles at the indices `kept` (ascending), in that order,
+    // and drops the others (particles leaving through an outlet).
+    void keepOnly(std::span<const std::uint32_t> kept);
     // Bytes held by the particle arrays and the reorder scratch.
     std::size_t memoryBytes() const;
     // Indices of the particles sorted by id (for writing files in a stable order).

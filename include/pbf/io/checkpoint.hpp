@@ -40,8 +40,9 @@ class World;
 
 // 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start;
 // 5: 64-bit particle ids and next id; 6: positions in the World's local
-// frame (pbf/world/local_frame.hpp; older versions are refused by name)
-inline constexpr std::uint32_t kCheckpointFormatVersion = 6;
+// frame (pbf/world/local_frame.hpp; older versions are refused by name);
+// 7: the count of particles outlets removed
+inline constexpr std::uint32_t kCheckpointFormatVersion = 7;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and
@@ -66,6 +67,7 @@ struct Checkpoint {
     ParticleStore particles;             // memory order; `predicted` is not stored
     std::vector<EmitterState> emitters;  // one per emitter of the scene
     std::vector<RigidBodyState> bodies;  // one per rigid body of the scene
+    std::uint64_t removed = 0;           // particles the outlets removed so far
     RunTotals totals;
 };
 

@@ -58,6 +58,9 @@ struct FrameReport {
     // over the frame's substeps (counted in its loop: with
     // solver.max_density_error it varies).
     double iterations = 0.0;
+    // Particles the emitters added and the outlets removed in this frame.
+    std::size_t emitted = 0;
+    std::size_t removed = 0;
     double stepMs = 0.0;  // average wall-clock ms per substep in this frame
     StageTimes stageMs;   // summed over the frame's substeps
     StateStatistics state;
@@ -90,12 +93,14 @@ struct WorldState {
     ParticleStore particles;             // the backend's memory order
     std::vector<EmitterState> emitters;  // one per emitter of the definition
     std::vector<RigidBodyState> bodies;  // one per rigid body of the definition
+    std::uint64_t removed = 0;           // particles the outlets removed so far
     int frame = 0;
     double time = 0.0;
 };
 
 // Particle attributes in host memory in id order (entry k is the particle
-// with id k): what scripting reads and writes. Buffers are shared so that
+// with the k-th smallest id: id k while no particle has left through an
+// outlet): what scripting reads and writes. Buffers are shared so that
 // views of them (numpy arrays) stay valid when the World replaces them
 // after the particle count changed.
 struct ParticleArrays {
@@ -103,7 +108,7 @@ struct ParticleArrays {
     std::shared_ptr<std::vector<float>> position;    // 3 per particle, m
     std::shared_ptr<std::vector<float>> velocity;    // 3 per particle, m/s
     std::shared_ptr<std::vector<float>> density;     // kg/m^3 (read only)
-    std::shared_ptr<std::vector<std::uint64_t>> id;  // id[k] == k (read only)
+    std::shared_ptr<std::vector<std::uint64_t>> id;  // ascending (read only)
 };
 
 struct WorldOptions {
@@ -164,6 +169,11 @@ class World {
     // motion (solids[i].motion), which the World places every substep.
     void setSolidMotion(std::size_t i, const SolidMotion& motion);
     const std::vector<Emitter>& emitters() const { return emitters_; }
+    // Particles the outlets (definition().outlets) removed so far, and the
+    // emitters added: particleCount() is the fluid blocks' particles plus
+    // emitted minus removed, exactly.
+    std::uint64_t removedParticles() const { return removed_; }
+    std::uint64_t emittedParticles() const;
 
     // Rigid bodies (definition().rigidBodies, in that order): what each is,
     // its state, and the fluid's force and torque on it averaged over the
@@ -217,6 +227,8 @@ class World {
     std::unique_ptr<detail::RigidBodies> bodies_;
     std::unique_ptr<Backend> backend_;
     std::vector<Emitter> emitters_;
+    std::vector<OutletRegion> outlets_;  // in the local frame
+    std::uint64_t removed_ = 0;
     // Solids with a prescribed motion: their index, pose at rest and pivot
     // (local frame), and the fastest point of any of them now (m/s).
     struct DrivenSolid {

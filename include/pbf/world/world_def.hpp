@@ -19,6 +19,7 @@
 #include "pbf/backend/backend.hpp"
 #include "pbf/bodies/rigid_body.hpp"
 #include "pbf/core/errors.hpp"
+#include "pbf/core/outlet_region.hpp"
 #include "pbf/core/params.hpp"
 #include "pbf/core/particles.hpp"
 #include "pbf/core/vec3.hpp"
@@ -50,6 +51,14 @@ struct EmitterDescription {
     std::string field;             // "emitters[0]", for messages
 };
 
+// An outlet: water that reaches the region (a box, or the side of a plane
+// its normal points to) leaves the simulation at the end of the substep
+// (pbf/core/outlet_region.hpp): the end of a channel, a drain.
+struct OutletDescription {
+    OutletRegion region;
+    std::string field;  // "outlets[0]", for messages
+};
+
 // The state guard (include/pbf/core/state_guard.hpp): a frame fails when a
 // particle is faster than max_speed (m/s) or, when max_speed is 0, than
 // max_speed_factor times the free-fall speed over the domain diagonal.
@@ -67,6 +76,7 @@ struct WorldDef {
     std::vector<SolidDescription> solids;
     std::vector<RigidBodyDescription> rigidBodies;
     std::vector<EmitterDescription> emitters;
+    std::vector<OutletDescription> outlets;
     float fps = 30.0f;  // frames per simulated second: World::stepFrame advances 1 / fps, (0, 1e4]
     GuardParams guard;
     std::string source;  // the file it came from (for messages); empty when built in code

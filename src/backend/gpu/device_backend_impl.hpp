@@ -427,6 +427,27 @@ class DeviceBackend final : public Backend {
         searchValid_ = false;
     }
 
+    // The particles outside every outlet, kept in their order: their
+    // indices by a stream compaction into the sort's order array (idle
+    // between steps), then every field gathered as the reorder does.
+    std::size_t removeInside(std::span<const OutletRegion> outlets) override {
+        const std::size_t n = p_.size();
+        if (outlets.empty() || n == 0) return 0;
+        ThreadScope threads;
+        outlets_.assign(outlets.begin(), outlets.end());
+        const OutsideOutlets outside{view(p_.position), raw(outlets_),
+                                     static_cast<std::uint32_t>(outlets.size())};
+        const auto kept = static_cast<std::size_t>(thrust::count_if(
+            thrust::device(scratch_), indices(), indices(std::uint32_t(n)), outside));
+        if (kept == n) return 0;
+        order_.resize(kept);
+        thrust::copy_if(thrust::device(scratch_), indices(), indices(std::uint32_t(n)),
+                        order_.begin(), outside);
+        reorder();
+        searchValid_ = false;
+        return n - kept;
+    }
+
     void download(ParticleStore& out) const override {
         ThreadScope threads;
         out = ParticleStore();
@@ -1041,9 +1062,10 @@ class DeviceBackend final : public Backend {
 #endif
     }
 
-    // Every particle field of the list permuted by the sort's order.
+    // Every particle field of the list gathered by the sort's order (a
+    // permutation; after an outlet's compaction, the particles that stay).
     void reorder() {
-        const std::size_t n = p_.size();
+        const std::size_t n = order_.size();
         forEachDeviceArray(p_, [&](std::size_t field, auto& array) {
             if (!p_.holdsValues(field)) return;  // an optional field that is off
             using T = typename std::decay_t<decltype(array)>::value_type;
@@ -1124,6 +1146,7 @@ class DeviceBackend final : public Backend {
     // second buffers and scratch) and the sparse grid (sortByCell).
     DeviceArray<std::uint64_t> keys_, keysAlt_;
     DeviceArray<std::uint32_t> order_, orderAlt_;
+    DeviceArray<OutletRegion> outlets_;  // removeInside's regions
     DeviceArray<std::uint8_t> sortTemp_;
     DeviceArray<std::uint64_t> cellKey_, blockOfCell_, blockKey_, blockMask_;
     DeviceArray<std::uint32_t> cellStart_, particleCell_, cellBlock_, blockFirstCell_;

@@ -16,15 +16,16 @@
 #include <cstdint>
 
 #include "backend/boundary.hpp"
-#include "backend/sparse_grid.hpp"
 #include "backend/gpu/device_solids.hpp"
 #include "backend/reference/equations.hpp"
 #include "backend/reference/neighbor_sums.hpp"
+#include "backend/sparse_grid.hpp"
 #include "backend/statistics_partial.hpp"
 #include "core/blocks.hpp"
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
 #include "pbf/core/config.hpp"
+#include "pbf/core/outlet_region.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
 
@@ -547,6 +548,16 @@ struct BadIndex {
     PBF_HD std::uint64_t operator()(std::uint32_t i) const {
         return detail::badParticle(position(i), velocity(i), limit2) ? std::uint64_t(i)
                                                                      : ~std::uint64_t(0);
+    }
+};
+
+// Whether particle i stays: outside every outlet (pbf/core/outlet_region.hpp).
+struct OutsideOutlets {
+    Float3View position;
+    const OutletRegion* outlets = nullptr;
+    std::uint32_t count = 0;
+    PBF_HD bool operator()(std::uint32_t i) const {
+        return !insideAnyOutlet(outlets, count, position(i));
     }
 };
 

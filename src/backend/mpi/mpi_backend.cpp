@@ -15,6 +15,7 @@
 
 #include "backend/cpu/solver.hpp"
 #include "backend/mpi/key_range_halo.hpp"
+#include "backend/outlets.hpp"
 #include "backend/reactions.hpp"
 
 namespace pbf {
@@ -59,12 +60,34 @@ class MpiBackend final : public Backend {
         for (std::size_t k = 0; k < positions.size(); ++k) {
             if (halo_.ownerOf(positions[k]) == rank_) {
                 store_.add(positions[k], velocities[k], density);
-                keys_.push_back(total_ + k);  // after every particle there is: appended last
+                keys_.push_back(nextKey_ + k);  // after every particle there is: appended last
             } else {
                 store_.setNextId(store_.nextId() + 1);
             }
         }
         total_ += positions.size();
+        nextKey_ += positions.size();
+    }
+
+    // Each rank removes its own particles in the outlets; the rest keep
+    // their keys, so the one-process order (a stable compaction) holds.
+    std::size_t removeInside(std::span<const OutletRegion> outlets) override {
+        if (outlets.empty()) return 0;
+        bool anyInside = false;
+        const std::vector<std::uint32_t> kept =
+            detail::particlesOutside(store_, outlets, anyInside);
+        unsigned long long mine = 0, removed = 0;
+        if (anyInside) {
+            mine = store_.size() - kept.size();
+            for (std::size_t j = 0; j < kept.size(); ++j) keys_[j] = keys_[kept[j]];
+            keys_.resize(kept.size());
+            store_.keepOnly(kept);
+        }
+        checkMpi(MPI_Allreduce(&mine, &removed, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
+                 "MPI_Allreduce (removed particles)");
+        total_ -= removed;
+        updateOffset();
+        return std::size_t(removed);
     }
 
     void step(const SolverContext& context, float dt) override {
@@ -226,6 +249,7 @@ class MpiBackend final : public Backend {
         }
         store_.setNextId(std::uint32_t(header[1]));
         total_ = header[0];
+        nextKey_ = total_;
         updateOffset();
     }
 
@@ -309,6 +333,7 @@ class MpiBackend final : public Backend {
         updateOffset();
         keys_.resize(store_.size());
         std::iota(keys_.begin(), keys_.end(), offset_);
+        nextKey_ = total_;
         unsigned long long mine = store_.size(), total = 0;
         checkMpi(MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
                  "MPI_Allreduce (particle count)");
@@ -332,6 +357,7 @@ class MpiBackend final : public Backend {
     ParticleStore store_;              // the particles this rank owns
     std::vector<std::uint64_t> keys_;  // their places in the one-process order
     std::uint64_t total_ = 0;          // particles on all ranks
+    std::uint64_t nextKey_ = 0;        // the key the next appended particle gets
     std::uint64_t offset_ = 0;         // particles on the ranks before this one
     StageTimes times_;
     ReactionAccumulator reactions_;

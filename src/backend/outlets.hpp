@@ -1,0 +1,38 @@
+// The particles that stay when outlets remove water (private header):
+// shared by the backends whose particles live in host memory.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "pbf/core/outlet_region.hpp"
+#include "pbf/core/particles.hpp"
+
+namespace pbf::detail {
+
+// Indices (ascending) of the particles outside every outlet; empty when
+// every particle stays (the common case costs one scan and no copy).
+inline std::vector<std::uint32_t> particlesOutside(const ParticleStore& p,
+                                                   std::span<const OutletRegion> outlets,
+                                                   bool& anyInside) {
+    anyInside = false;
+    std::vector<std::uint32_t> kept;
+    if (outlets.empty()) return kept;
+    const std::size_t n = p.size();
+    std::size_t first = n;
+    for (std::size_t i = 0; i < n; ++i)
+        if (insideAnyOutlet(outlets, p.position.get(i))) {
+            first = i;
+            break;
+        }
+    if (first == n) return kept;
+    anyInside = true;
+    kept.reserve(n);
+    for (std::size_t i = 0; i < first; ++i) kept.push_back(std::uint32_t(i));
+    for (std::size_t i = first + 1; i < n; ++i)
+        if (!insideAnyOutlet(outlets, p.position.get(i))) kept.push_back(std::uint32_t(i));
+    return kept;
+}
+
+}  // namespace pbf::detail
