@@ -355,12 +355,16 @@ void bindEmitters(py::module_& m) {
         "A nozzle pouring water: discs of particles leave `position` along `direction` at "
         "`speed` between `start` and `end` seconds or until `max_particles` were emitted.")
         .def(py::init([](const Vec3& position, const Vec3& direction, float radius, float speed,
-                         float start, float end, std::size_t maxParticles) {
+                         float start, float end, std::size_t maxParticles, float width,
+                         float height, float flowRate) {
                  EmitterDescription e;
                  e.position = position;
                  e.direction = direction;
                  e.radius = radius;
                  e.speed = speed;
+                 e.width = width;
+                 e.height = height;
+                 e.flowRate = flowRate;
                  e.start = start;
                  e.end = end;
                  e.maxParticles = maxParticles;
@@ -369,7 +373,8 @@ void bindEmitters(py::module_& m) {
              py::arg("position"), py::arg("direction") = defaults.direction,
              py::arg("radius") = defaults.radius, py::arg("speed") = defaults.speed,
              py::arg("start") = defaults.start, py::arg("end") = defaults.end,
-             py::arg("max_particles") = defaults.maxParticles)
+             py::arg("max_particles") = defaults.maxParticles, py::arg("width") = defaults.width,
+             py::arg("height") = defaults.height, py::arg("flow_rate") = defaults.flowRate)
         .def_readwrite("position", &EmitterDescription::position, "metres")
         .def_readwrite("direction", &EmitterDescription::direction)
         .def_property("radius", floatGetter(&EmitterDescription::radius),
@@ -381,12 +386,20 @@ void bindEmitters(py::module_& m) {
         .def_property("end", floatGetter(&EmitterDescription::end),
                       floatSetter(&EmitterDescription::end), "s, > start")
         .def_readwrite("max_particles", &EmitterDescription::maxParticles, "0: no budget")
+        .def_property("width", floatGetter(&EmitterDescription::width),
+                      floatSetter(&EmitterDescription::width),
+                      "m; with height > 0: a rectangular nozzle instead of the disc")
+        .def_property("height", floatGetter(&EmitterDescription::height),
+                      floatSetter(&EmitterDescription::height), "m")
+        .def_property("flow_rate", floatGetter(&EmitterDescription::flowRate),
+                      floatSetter(&EmitterDescription::flowRate),
+                      "m^3/s; > 0: sets the speed (instead of `speed`)")
         .def_readwrite("field", &EmitterDescription::field,
                        "name in messages, e.g. \"emitters[0]\"")
         .def("__repr__", [](const py::object& self) {
-            return reprOf(
-                self, "EmitterDescription",
-                {"position", "direction", "radius", "speed", "start", "end", "max_particles"});
+            return reprOf(self, "EmitterDescription",
+                          {"position", "direction", "radius", "width", "height", "speed",
+                           "flow_rate", "start", "end", "max_particles"});
         });
 }
 

@@ -389,8 +389,21 @@ void readEmitters(JsonReader& root, Scene& scene) {
         JsonReader r(emitters[i], e.field, scene.source);
         e.position = r.requiredVec3("position");
         e.direction = direction(r, "direction", e.direction);
-        e.radius = positive(r, "radius", 0.0f);
-        e.speed = positive(r, "speed", 0.0f);
+        // A disc of `radius`, or a `width` x `height` rectangle (an inlet).
+        if (r.has("width") || r.has("height")) {
+            if (r.has("radius")) r.fail("radius", "give either radius or width and height");
+            e.width = positive(r, "width", 0.0f);
+            e.height = positive(r, "height", 0.0f);
+        } else {
+            e.radius = positive(r, "radius", 0.0f);
+        }
+        // A stream speed, or a flow rate the speed follows from.
+        if (r.has("flow_rate")) {
+            if (r.has("speed")) r.fail("speed", "give either speed or flow_rate");
+            e.flowRate = positive(r, "flow_rate", 0.0f);
+        } else {
+            e.speed = positive(r, "speed", 0.0f);
+        }
         e.start = r.number("start", 0.0f);
         e.end = r.number("end", e.end);
         const int budget = r.integer("max_particles", 0);

@@ -5,9 +5,35 @@
 
 namespace pbf {
 
+namespace {
+
+// A rectangle's columns: n = floor(extent / spacing) (at least one) sites
+// centred on the axis, so a nozzle as wide as a channel fills it.
+std::vector<float> rowOffsets(float extent, float spacing) {
+    const int n = std::max(1, static_cast<int>(std::floor(extent / spacing + 1e-4f)));
+    std::vector<float> offsets;
+    for (int i = 0; i < n; ++i) offsets.push_back((float(i) - 0.5f * float(n - 1)) * spacing);
+    return offsets;
+}
+
+}  // namespace
+
 std::vector<Vec3> emitterDisc(const EmitterDescription& e, float particleRadius) {
     const float spacing = 2.0f * particleRadius;
     const Vec3 axis = e.direction * (1.0f / length(e.direction));
+    if (e.width > 0.0f && e.height > 0.0f) {
+        // Width level and across the stream; height across it, upward.
+        const Vec3 up{0, 1, 0};
+        Vec3 across = cross(up, axis);
+        if (length(across) < 1e-6f) across = {1, 0, 0};  // a vertical stream
+        across *= 1.0f / length(across);
+        const Vec3 rise = cross(axis, across);
+        std::vector<Vec3> rectangle;
+        for (const float a : rowOffsets(e.height, spacing))
+            for (const float b : rowOffsets(e.width, spacing))
+                rectangle.push_back(across * b + rise * a);
+        return rectangle;
+    }
     const Vec3 helper = std::fabs(axis.x) < 0.9f ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     Vec3 u = cross(axis, helper);
     u *= 1.0f / length(u);
@@ -28,8 +54,16 @@ Emitter::Emitter(const EmitterDescription& description, const SimulationParams& 
       particleRadius_(params.particleRadius),
       spacing_(params.particleSpacing()) {
     description_.direction = description.direction * (1.0f / length(description.direction));
+    if (description.flowRate > 0.0f)
+        description_.speed = flowSpeed(description, params.particleRadius);
     const float r = params.particleRadius;
     inside_ = {params.domain.min + Vec3{r, r, r}, params.domain.max - Vec3{r, r, r}};
+}
+
+float flowSpeed(const EmitterDescription& e, float particleRadius) {
+    const double spacing = 2.0 * double(particleRadius);
+    const double area = double(emitterDisc(e, particleRadius).size()) * spacing * spacing;
+    return float(double(e.flowRate) / area);
 }
 
 double Emitter::rate() const {

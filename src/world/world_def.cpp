@@ -10,6 +10,9 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
+
+#include "pbf/world/emitter.hpp"
 
 namespace pbf {
 namespace {
@@ -167,14 +170,30 @@ std::string validateEmitters(const WorldDef& def) {
             return field + ".position: must lie inside the domain";
         if (!(length(e.direction) > 0.0f) || !finite(e.direction))
             return field + ".direction: must be a non-zero vector";
-        if (!(e.radius > 0.0f)) return field + ".radius: must be positive";
-        if (e.radius < sim.particleRadius)
-            return field + ".radius: must be at least the particle radius";
         const Vec3 extent = sim.domain.extent();
-        if (e.radius > std::max(extent.x, std::max(extent.y, extent.z)))
-            return field + ".radius: must not exceed the domain's size";
-        if (!(e.speed > 0.0f)) return field + ".speed: must be positive";
-        if (e.speed > 100.0f) return field + ".speed: must be at most 100 m/s";
+        const float size = std::max(extent.x, std::max(extent.y, extent.z));
+        if (e.width > 0.0f || e.height > 0.0f) {
+            for (const auto& [name, value] : {std::pair{"width", e.width}, {"height", e.height}}) {
+                if (!(value >= sim.particleSpacing()))
+                    return fmt::format("{}.{}: must be at least the particle spacing {} m", field,
+                                       name, sim.particleSpacing());
+                if (value > size)
+                    return fmt::format("{}.{}: must not exceed the domain's size", field, name);
+            }
+        } else {
+            if (!(e.radius > 0.0f)) return field + ".radius: must be positive";
+            if (e.radius < sim.particleRadius)
+                return field + ".radius: must be at least the particle radius";
+            if (e.radius > size) return field + ".radius: must not exceed the domain's size";
+        }
+        if (!(e.flowRate >= 0.0f) || !std::isfinite(e.flowRate))
+            return field + ".flow_rate: must be positive";
+        const float speed = e.flowRate > 0.0f ? flowSpeed(e, sim.particleRadius) : e.speed;
+        const char* speedField = e.flowRate > 0.0f ? "flow_rate" : "speed";
+        if (!(speed > 0.0f)) return field + "." + speedField + ": must be positive";
+        if (speed > 100.0f)
+            return fmt::format("{}.{}: the stream would be {:.4g} m/s, more than 100 m/s", field,
+                               speedField, speed);
         if (!(e.start >= 0.0f)) return field + ".start: must be >= 0 s";
         if (!(e.end > e.start)) return field + ".end: must be later than start";
     }

@@ -11,8 +11,12 @@
 namespace pbf {
 
 // Offsets of the particles of one emitted disc: a square lattice of spacing
-// 2 r in the plane across `direction`, within `radius` of the axis.
+// 2 r in the plane across `direction`, within `radius` of the axis, or filling the `width` x
+// `height` rectangle of a rectangular nozzle.
 std::vector<Vec3> emitterDisc(const EmitterDescription& emitter, float particleRadius);
+// The stream speed that carries `flowRate` m^3/s through the nozzle's
+// particles (each 8 r^3 of water): flow rate / (sites x (2 r)^2).
+float flowSpeed(const EmitterDescription& emitter, float particleRadius);
 
 // What an emitter carries from one substep to the next (saved in checkpoints).
 struct EmitterState {

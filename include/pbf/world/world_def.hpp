@@ -44,7 +44,16 @@ struct EmitterDescription {
     Vec3 position;
     Vec3 direction{0, -1, 0};
     float radius = 0.05f;          // m, [particle radius, domain size]
-    float speed = 1.0f;            // m/s, (0, 100]
+    // A rectangular nozzle (an inlet filling a channel's cross-section)
+    // when both are > 0, instead of the disc of `radius`: `width` across the
+    // stream and level, `height` across it in the stream's vertical plane
+    // (for a vertical stream: along x and z). m, [2 r, domain size].
+    float width = 0.0f;
+    float height = 0.0f;
+    float speed = 1.0f;  // m/s, (0, 100]
+    // m^3/s; > 0: the speed is set so that the nozzle's particles carry
+    // this volume per second (each 8 r^3), instead of `speed`.
+    float flowRate = 0.0f;
     float start = 0.0f;            // s, >= 0
     float end = 1e30f;             // s, > start
     std::size_t maxParticles = 0;  // 0: no budget, only the time window
