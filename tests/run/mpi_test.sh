@@ -9,8 +9,9 @@
 #     (every halo exchange) on 2 ranks, also over TCP on loopback
 #     (--mca btl tcp,self: the transport two hosts use);
 #   * surface tension with adhesion (walls and a solid) on 2 ranks;
-#   * a scene 10 km from the origin (the World's local frame) and walls
-#     driven by a prescribed motion, on 2 ranks;
+#   * a scene 10 km from the origin (the World's local frame), walls
+#     driven by a prescribed motion, and water leaving through outlets, on
+#     2 ranks;
 #   * checkpoints: 2 ranks stop at frame 8, 3 ranks and 1 process resume to
 #     the end: frames equal the uninterrupted one-process run's;
 #   * summary.json has "ranks" and "rank_particles" adding up to "particles".
@@ -145,6 +146,21 @@ shaken=(run "$src/scenes/shaken_tank.json" -q --no-plot --render none --checkpoi
     { cat "$work/shaken2.log"; fail "shaken tank on 2 ranks failed"; }
 frames=$(same_frames "$work/shaken1" "$work/shaken2")
 echo "driven solids, 2 ranks: $frames frames bit-identical"
+
+# An inlet and outlets (one in the middle of the block): each rank removes its
+# own particles, and the rest keep the one-process order.
+outflow=(run "$src/tests/data/outflow.json" -q --no-plot --render none --checkpoint-every 0
+         --checkpoint-seconds 0)
+"$pbf" "${outflow[@]}" --out "$work/outflow1" > /dev/null
+"${mpi[@]}" -np 2 "$pbf" "${outflow[@]}" --out "$work/outflow2" > "$work/outflow2.log" 2>&1 ||
+    { cat "$work/outflow2.log"; fail "inlet and outlets on 2 ranks failed"; }
+frames=$(same_frames "$work/outflow1" "$work/outflow2")
+removed=$(grep -o '"removed_particles": [0-9]*' "$work/outflow2/summary.json" | grep -o '[0-9]*$')
+[ "${removed:-0}" -gt 100 ] || fail "outflow on 2 ranks removed ${removed:-no} particles"
+cmp -s <(grep -o '"removed_particles": [0-9]*' "$work/outflow1/summary.json") \
+    <(grep -o '"removed_particles": [0-9]*' "$work/outflow2/summary.json") ||
+    fail "outflow: 2 ranks removed a different count from one process"
+echo "inlet and outlets, 2 ranks: $frames frames bit-identical, $removed particles removed"
 
 # Surface tension with adhesion on the walls and a solid: the cohesion's pass
 # reads the ghosts' x* and densities (exchanged for the density constraint
