@@ -15,12 +15,13 @@ Case cubeToSphereCase();
 Case wettingCase();
 Case laplaceCase();
 Case heaveCase();
+Case openChannelCase();
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(),  freeFallCase(),
                                        momentumCase(),    taylorGreenCase(),  archimedesCase(),
                                        heaveCase(),       rayleighDropCase(), cubeToSphereCase(),
-                                       laplaceCase(),     wettingCase()};
+                                       laplaceCase(),     wettingCase(),      openChannelCase()};
     return all;
 }
 
