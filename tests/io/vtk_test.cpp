@@ -137,6 +137,38 @@ TEST(Vtk, ParticlesAreVertexCellsWithEveryAttributeInIdOrder) {
     fs::remove_all(dir);
 }
 
+// After an outlet removed particles the ids have gaps (and the memory order
+// is the solver's): the points are still in id order, every field follows
+// its particle, and the cells number the points that are left, 0 .. n - 1.
+TEST(Vtk, ParticlesWithGapsInTheirIdsAreWrittenInIdOrder) {
+    pbf::ParticleStore p;
+    for (int k = 0; k < 90; ++k) p.add({0.01f * float(k), 0.0f, 0.0f}, {float(k), 0, 0}, 1000.0f);
+    std::vector<std::uint32_t> perm(90);
+    for (std::uint32_t k = 0; k < 90; ++k) perm[k] = (k * 37) % 90;
+    p.reorder(perm);
+    std::vector<std::uint32_t> kept;  // every particle whose id is not a multiple of 3
+    for (std::uint32_t i = 0; i < 90; ++i)
+        if (p.id[i] % 3 != 0) kept.push_back(i);
+    p.keepOnly(kept);
+    ASSERT_EQ(p.size(), 60u);
+    const fs::path dir = freshDirectory("vtu_gaps");
+    pbf::vtk::writeParticlesVtu(dir / "f.vtu", p, 0.0);
+    const auto arrays = parseAppended(readText(dir / "f.vtu"));
+    const auto x = arrays.at("Points").values<float>();
+    const auto v = arrays.at("velocity").values<float>();
+    const auto id = arrays.at("id").values<std::uint64_t>();
+    const auto connectivity = arrays.at("connectivity").values<std::int32_t>();
+    ASSERT_EQ(id.size(), 60u);
+    for (std::uint32_t k = 0; k < 60; ++k) {
+        const std::uint64_t expected = 3 * (k / 2) + 1 + k % 2;  // 1, 2, 4, 5, 7, ...
+        EXPECT_EQ(id[k], expected);
+        EXPECT_EQ(x[3 * k], 0.01f * float(expected));
+        EXPECT_EQ(v[3 * k], float(expected));
+        EXPECT_EQ(connectivity[k], std::int32_t(k));
+    }
+    fs::remove_all(dir);
+}
+
 TEST(Vtk, TrianglesWithNormals) {
     const std::vector<pbf::Vec3> vertices{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
     const std::vector<pbf::Vec3> normals(4, pbf::Vec3{0, 0, 1});
