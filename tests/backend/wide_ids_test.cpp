@@ -14,6 +14,7 @@
 
 #include "pbf/backend/backend.hpp"
 #include "pbf/core/solver_constants.hpp"
+#include "support/test_util.hpp"
 
 namespace {
 
@@ -67,14 +68,8 @@ TEST_P(WideIds, IdsPastThirtyTwoBitsFollowTheirParticles) {
             << "id " << back.id[i];
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, WideIds,
-                         ::testing::Values(BackendKind::Cpu, BackendKind::Reference,
-                                           BackendKind::CudaOnCpu),
-                         [](const auto& param) {
-                             std::string name(pbf::backendName(param.param));
-                             std::replace(name.begin(), name.end(), '-', '_');
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Backends, WideIds, pbf::test::everyBackendHere(),
+                         pbf::test::backendTestName);
 
 // More particles than 32-bit indices reach are refused by name before any
 // memory is asked for.

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "pbf/io/scene.hpp"
@@ -22,6 +23,18 @@ inline std::string smallSceneJson(const std::string& extra = "") {
       "particle_radius": 0.02,
       "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.2, 0.2]}])" +
            (extra.empty() ? std::string() : ", " + extra) + "}";
+}
+
+// The backends every World runs on here (the GPU backend's source through
+// cuda-on-cpu), for INSTANTIATE_TEST_SUITE_P, with their names as test-name
+// suffixes (cuda_on_cpu).
+inline auto everyBackendHere() {
+    return ::testing::Values(BackendKind::Cpu, BackendKind::Reference, BackendKind::CudaOnCpu);
+}
+inline std::string backendTestName(const ::testing::TestParamInfo<BackendKind>& info) {
+    std::string name(backendName(info.param));
+    std::replace(name.begin(), name.end(), '-', '_');
+    return name;
 }
 
 // Steps one frame; a failed frame fails the test with the world's message.

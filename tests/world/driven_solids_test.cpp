@@ -80,14 +80,8 @@ TEST_P(DrivenSolidsOn, ATurningPaddleSpinsTheWaterItsWay) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, DrivenSolidsOn,
-                         ::testing::Values(pbf::BackendKind::Cpu, pbf::BackendKind::Reference,
-                                           pbf::BackendKind::CudaOnCpu),
-                         [](const auto& param) {
-                             std::string name(pbf::backendName(param.param));
-                             std::replace(name.begin(), name.end(), '-', '_');
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Backends, DrivenSolidsOn, pbf::test::everyBackendHere(),
+                         pbf::test::backendTestName);
 
 // The state at frame 10 of a run with an oscillating paddle, restored into a
 // new World, continues bit for bit as the run did: the motion is a function

@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pbf/io/checkpoint.hpp"
@@ -102,14 +103,8 @@ TEST_P(OutletsOn, WaterThatReachesAnOutletLeavesAndTheRestKeepsItsIds) {
     EXPECT_EQ(world.particleCount(), 1000u - removed);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, OutletsOn,
-                         ::testing::Values(pbf::BackendKind::Cpu, pbf::BackendKind::Reference,
-                                           pbf::BackendKind::CudaOnCpu),
-                         [](const auto& param) {
-                             std::string name(pbf::backendName(param.param));
-                             std::replace(name.begin(), name.end(), '-', '_');
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Backends, OutletsOn, pbf::test::everyBackendHere(),
+                         pbf::test::backendTestName);
 
 void expectSameState(const pbf::World& a, const pbf::World& b) {
     const pbf::WorldState sa = a.captureState();
@@ -202,27 +197,25 @@ TEST(Outlets, BadOutletsAreRefusedNamingTheField) {
         }
         return std::string("accepted");
     };
-    EXPECT_NE(error(R"({"type": "disc"})").find("outlets[2].type"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]})")
-                  .find("outlets[2].normal: must be a non-zero vector"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "plane", "point": [0, 0, 0]})").find("outlets[2].normal"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "box", "min": [0, 0, 0], "max": [0.3, 0.25, 0.2]})")
-                  .find("outlets[2]: the outlet covers all of fluid_blocks[0]"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "plane", "point": [0, 0.5, 0], "normal": [0, -1, 0]})")
-                  .find("outlets[2]: the outlet covers the whole domain"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "plane", "point": [0, 0.5, 0], "normal": [0, 1, 0]})")
-                  .find("outlets[2].point: the plane leaves the whole domain outside"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "box", "min": [1, 1, 1], "max": [2, 2, 2]})")
-                  .find("outlets[2].min: the outlet must overlap the domain"),
-              std::string::npos);
-    EXPECT_NE(error(R"({"type": "box", "min": [0.1, 0, 0], "max": [0.05, 0.1, 0.1]})")
-                  .find("outlets[2].max: must be greater than min"),
-              std::string::npos);
+    const std::pair<const char*, const char*> refused[] = {
+        {R"({"type": "disc"})", "outlets[2].type"},
+        {R"({"type": "plane", "point": [0, 0, 0], "normal": [0, 0, 0]})",
+         "outlets[2].normal: must be a non-zero vector"},
+        {R"({"type": "plane", "point": [0, 0, 0]})", "outlets[2].normal"},
+        {R"({"type": "box", "min": [0, 0, 0], "max": [0.3, 0.25, 0.2]})",
+         "outlets[2]: the outlet covers all of fluid_blocks[0]"},
+        {R"({"type": "plane", "point": [0, 0.5, 0], "normal": [0, -1, 0]})",
+         "outlets[2]: the outlet covers the whole domain"},
+        {R"({"type": "plane", "point": [0, 0.5, 0], "normal": [0, 1, 0]})",
+         "outlets[2].point: the plane leaves the whole domain outside"},
+        {R"({"type": "box", "min": [1, 1, 1], "max": [2, 2, 2]})",
+         "outlets[2].min: the outlet must overlap the domain"},
+        {R"({"type": "box", "min": [0.1, 0, 0], "max": [0.05, 0.1, 0.1]})",
+         "outlets[2].max: must be greater than min"},
+    };
+    for (const auto& [outlet, message] : refused)
+        EXPECT_NE(error(outlet).find(message), std::string::npos)
+            << outlet << ": " << error(outlet);
     // A nozzle inside an outlet would pour straight into it.
     const std::string withEmitter = R"({
       "name": "e", "domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]}, "particle_radius": 0.01,

@@ -58,15 +58,7 @@ TEST_P(SparseDomain, AHugeEmptyBasinMovesTheWaterAsATightTankAndCostsTheSame) {
     EXPECT_LE(basinBytes, 1.3 * tightBytes + 65536.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, SparseDomain,
-                         ::testing::Values(BackendKind::Cpu, BackendKind::Reference,
-                                           BackendKind::CudaOnCpu),
-                         [](const ::testing::TestParamInfo<BackendKind>& param) {
-                             switch (param.param) {
-                                 case BackendKind::Cpu: return std::string("cpu");
-                                 case BackendKind::Reference: return std::string("reference");
-                                 default: return std::string("cuda_on_cpu");
-                             }
-                         });
+INSTANTIATE_TEST_SUITE_P(Backends, SparseDomain, pbf::test::everyBackendHere(),
+                         pbf::test::backendTestName);
 
 }  // namespace
