@@ -1,6 +1,7 @@
 // `pbf run SCENE`: simulate a scene, writing PLY frames, stats.csv and summary.json.
 #include <fmt/format.h>
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -148,9 +149,26 @@ int runScene(RunArguments args) {
                 stderr,
                 "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
                 world.skippedParticles());
+        const double particleVolume = std::pow(world.settings().particleSpacing(), 3.0);
         for (const Emitter& e : world.emitters())
-            fmt::print(stderr, "pbf run: emitter: {} particles per disc, {:.0f} particles/s\n",
-                       e.discSize(), e.rate());
+            fmt::print(stderr,
+                       "pbf run: emitter: {} particles per disc, {:.0f} particles/s ({:.3g} L/s "
+                       "at {:.3g} m/s)\n",
+                       e.discSize(), e.rate(), 1e3 * e.rate() * particleVolume,
+                       length(e.velocity()));
+        for (const OutletDescription& o : world.definition().outlets) {
+            const OutletRegion& r = o.region;
+            if (r.kind == OutletRegion::Kind::Box)
+                fmt::print(stderr, "pbf run: {}: water leaves inside [{}, {}, {}] - [{}, {}, {}]\n",
+                           o.field, r.box.min.x, r.box.min.y, r.box.min.z, r.box.max.x, r.box.max.y,
+                           r.box.max.z);
+            else
+                fmt::print(stderr,
+                           "pbf run: {}: water leaves past the plane through ({}, {}, {}) toward "
+                           "({:.3g}, {:.3g}, {:.3g})\n",
+                           o.field, r.point.x, r.point.y, r.point.z, r.normal.x, r.normal.y,
+                           r.normal.z);
+        }
     };
     // Warnings about optional outputs (images, video, plot): said once each,
     // never fatal; the simulation's files are the product.
@@ -215,6 +233,8 @@ int runScene(RunArguments args) {
         s.frames, s.particles, s.simulatedSeconds, s.wallSeconds, s.substeps,
         s.particleStepsPerSecond * 1e-6, 100.0 * s.averageDensityError, 100.0 * s.maxDensityError,
         s.maxEscaped, scene.output.directory, pictures.empty() ? "" : "; " + pictures);
+    if (s.emitted > 0 || s.removed > 0)
+        fmt::print("pbf run: {} particles emitted, {} removed by outlets\n", s.emitted, s.removed);
     if (s.maxInsideSolid > 0) {
         printError(fmt::format("{} particles ended inside a solid (a solver bug): see {}/stats.csv",
                                s.maxInsideSolid, scene.output.directory));

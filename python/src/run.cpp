@@ -139,6 +139,8 @@ void bindRun(py::module_& m) {
         .def_readonly("max_escaped", &RunResult::maxEscaped, "0 in a correct run")
         .def_readonly("max_inside_solid", &RunResult::maxInsideSolid, "0 in a correct run")
         .def_readonly("skipped_in_solids", &RunResult::skippedInSolids)
+        .def_readonly("emitted", &RunResult::emitted, "particles the emitters added")
+        .def_readonly("removed", &RunResult::removed, "particles the outlets removed")
         .def_property_readonly("resumed_from_frame",
                                [](const RunResult& r) -> py::object {
                                    if (r.resumedFromFrame < 0) return py::none();
@@ -159,12 +161,26 @@ void bindRun(py::module_& m) {
         .def("as_dict",
              [](const py::object& self) {
                  py::dict d;
-                 for (const char* field :
-                      {"scene", "directory", "frames", "particles", "simulated_seconds",
-                       "wall_seconds", "substeps", "particle_steps_per_second", "max_density_error",
-                       "average_density_error", "max_escaped", "max_inside_solid",
-                       "skipped_in_solids", "resumed_from_frame", "interrupted", "last_frame",
-                       "checkpoint", "error"})
+                 for (const char* field : {"scene",
+                                           "directory",
+                                           "frames",
+                                           "particles",
+                                           "simulated_seconds",
+                                           "wall_seconds",
+                                           "substeps",
+                                           "particle_steps_per_second",
+                                           "max_density_error",
+                                           "average_density_error",
+                                           "max_escaped",
+                                           "max_inside_solid",
+                                           "skipped_in_solids",
+                                           "emitted",
+                                           "removed",
+                                           "resumed_from_frame",
+                                           "interrupted",
+                                           "last_frame",
+                                           "checkpoint",
+                                           "error"})
                      d[field] = self.attr(field);
                  return d;
              })

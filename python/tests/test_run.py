@@ -90,3 +90,18 @@ def test_run_validates_its_arguments(dam_break, tmp_path):
         (tmp_path / "file").write_text("x")
         pbf.run(dam_break, out=tmp_path / "file" / "sub", frames=1,
                 overrides={"particle_radius": 0.02})
+
+
+def test_the_summary_balances_the_water_of_an_open_channel(scenes_dir, tmp_path):
+    out = tmp_path / "channel"
+    summary = pbf.run(scenes_dir / "open_channel.json", out=out, frames=75)
+    assert summary.removed > 0  # the water reached the outlet
+    assert summary.particles == 1880 + summary.emitted - summary.removed
+    on_disk = json.loads((out / "summary.json").read_text())
+    assert on_disk["emitted_particles"] == summary.emitted
+    assert on_disk["removed_particles"] == summary.removed
+    assert summary.as_dict()["removed"] == summary.removed
+    rows = (out / "stats.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    removed = sum(int(r.split(",")[header.index("removed")]) for r in rows[1:])
+    assert removed == summary.removed

@@ -69,8 +69,8 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     j["max_inside_solid"] = s.maxInsideSolid;
     j["skipped_in_solids"] = s.skippedInSolids;
     // The water's balance: particles = the fluid blocks' + emitted - removed.
-    j["emitted_particles"] = world.emittedParticles();
-    j["removed_particles"] = world.removedParticles();
+    j["emitted_particles"] = s.emitted;
+    j["removed_particles"] = s.removed;
     j["resumed_from_frame"] = s.resumedFromFrame;
     j["interrupted"] = s.interrupted;
     j["backend"] = std::string(backendName(backend));
@@ -392,6 +392,8 @@ RunSummary RunDriver::finish() {
     s.frames = completed;
     s.lastFrame = completed;
     s.particles = world_.particleCount();
+    s.emitted = world_.emittedParticles();
+    s.removed = world_.removedParticles();
     s.simulatedSeconds = completed * world_.frameDuration();
     s.wallSeconds = wallSeconds();
     s.substeps = totals_.substeps;

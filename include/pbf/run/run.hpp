@@ -66,6 +66,8 @@ struct RunSummary {
     std::size_t maxEscaped = 0;        // over all frames; 0 in a correct run
     std::size_t maxInsideSolid = 0;    // over all frames; 0 in a correct run
     std::size_t skippedInSolids = 0;   // fluid-block sites left empty because a solid was there
+    std::uint64_t emitted = 0;         // particles the emitters added (the whole run)
+    std::uint64_t removed = 0;         // particles the outlets removed (the whole run)
     int resumedFromFrame = -1;         // frame of the checkpoint resumed from, -1 if none
     bool interrupted = false;          // stopRequested() ended the run early
     int lastFrame = 0;                 // last frame written
