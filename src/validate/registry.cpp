@@ -16,12 +16,14 @@ Case wettingCase();
 Case laplaceCase();
 Case heaveCase();
 Case openChannelCase();
+Case sloshingCase();
 
 const std::vector<Case>& cases() {
     static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(),  freeFallCase(),
                                        momentumCase(),    taylorGreenCase(),  archimedesCase(),
                                        heaveCase(),       rayleighDropCase(), cubeToSphereCase(),
-                                       laplaceCase(),     wettingCase(),      openChannelCase()};
+                                       laplaceCase(),     wettingCase(),      openChannelCase(),
+                                       sloshingCase()};
     return all;
 }
 
