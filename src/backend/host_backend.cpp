@@ -16,11 +16,10 @@ void HostBackend::append(std::span<const Vec3> positions, std::span<const Vec3> 
 }
 
 std::size_t HostBackend::removeInside(std::span<const OutletRegion> outlets) {
-    bool anyInside = false;
-    const std::vector<std::uint32_t> kept = detail::particlesOutside(store_, outlets, anyInside);
-    if (!anyInside) return 0;
-    const std::size_t removed = store_.size() - kept.size();
-    store_.keepOnly(kept);
+    const auto kept = detail::particlesOutside(store_, outlets);
+    if (!kept) return 0;
+    const std::size_t removed = store_.size() - kept->size();
+    store_.keepOnly(*kept);
     return removed;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -11,23 +12,19 @@
 
 namespace pbf::detail {
 
-// Indices (ascending) of the particles outside every outlet; empty when
+// Indices (ascending) of the particles outside every outlet; nothing when
 // every particle stays (the common case costs one scan and no copy).
-inline std::vector<std::uint32_t> particlesOutside(const ParticleStore& p,
-                                                   std::span<const OutletRegion> outlets,
-                                                   bool& anyInside) {
-    anyInside = false;
-    std::vector<std::uint32_t> kept;
-    if (outlets.empty()) return kept;
+inline std::optional<std::vector<std::uint32_t>> particlesOutside(
+    const ParticleStore& p, std::span<const OutletRegion> outlets) {
     const std::size_t n = p.size();
     std::size_t first = n;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n && !outlets.empty(); ++i)
         if (insideAnyOutlet(outlets, p.position.get(i))) {
             first = i;
             break;
         }
-    if (first == n) return kept;
-    anyInside = true;
+    if (first == n) return std::nullopt;
+    std::vector<std::uint32_t> kept;
     kept.reserve(n);
     for (std::size_t i = 0; i < first; ++i) kept.push_back(std::uint32_t(i));
     for (std::size_t i = first + 1; i < n; ++i)

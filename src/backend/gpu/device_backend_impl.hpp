@@ -52,6 +52,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -434,7 +435,12 @@ class DeviceBackend final : public Backend {
         const std::size_t n = p_.size();
         if (outlets.empty() || n == 0) return 0;
         ThreadScope threads;
-        outlets_.assign(outlets.begin(), outlets.end());
+        // Uploaded when they change (a scene's outlets never do).
+        if (!std::equal(outlets.begin(), outlets.end(), outletsOnDevice_.begin(),
+                        outletsOnDevice_.end())) {
+            outletsOnDevice_.assign(outlets.begin(), outlets.end());
+            outlets_.assign(outlets.begin(), outlets.end());
+        }
         const OutsideOutlets outside{view(p_.position), raw(outlets_),
                                      static_cast<std::uint32_t>(outlets.size())};
         const auto kept = static_cast<std::size_t>(thrust::count_if(
@@ -1146,7 +1152,8 @@ class DeviceBackend final : public Backend {
     // second buffers and scratch) and the sparse grid (sortByCell).
     DeviceArray<std::uint64_t> keys_, keysAlt_;
     DeviceArray<std::uint32_t> order_, orderAlt_;
-    DeviceArray<OutletRegion> outlets_;  // removeInside's regions
+    DeviceArray<OutletRegion> outlets_;            // removeInside's regions
+    std::vector<OutletRegion> outletsOnDevice_;  // what outlets_ holds
     DeviceArray<std::uint8_t> sortTemp_;
     DeviceArray<std::uint64_t> cellKey_, blockOfCell_, blockKey_, blockMask_;
     DeviceArray<std::uint32_t> cellStart_, particleCell_, cellBlock_, blockFirstCell_;

@@ -73,15 +73,12 @@ class MpiBackend final : public Backend {
     // their keys, so the one-process order (a stable compaction) holds.
     std::size_t removeInside(std::span<const OutletRegion> outlets) override {
         if (outlets.empty()) return 0;
-        bool anyInside = false;
-        const std::vector<std::uint32_t> kept =
-            detail::particlesOutside(store_, outlets, anyInside);
         unsigned long long mine = 0, removed = 0;
-        if (anyInside) {
-            mine = store_.size() - kept.size();
-            for (std::size_t j = 0; j < kept.size(); ++j) keys_[j] = keys_[kept[j]];
-            keys_.resize(kept.size());
-            store_.keepOnly(kept);
+        if (const auto kept = detail::particlesOutside(store_, outlets)) {
+            mine = store_.size() - kept->size();
+            for (std::size_t j = 0; j < kept->size(); ++j) keys_[j] = keys_[(*kept)[j]];
+            keys_.resize(kept->size());
+            store_.keepOnly(*kept);
         }
         checkMpi(MPI_Allreduce(&mine, &removed, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
                  "MPI_Allreduce (removed particles)");
