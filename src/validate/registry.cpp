@@ -16,14 +16,15 @@ Case wettingCase();
 Case laplaceCase();
 Case heaveCase();
 Case openChannelCase();
+Case standingWaveCase();
 Case sloshingCase();
 
 const std::vector<Case>& cases() {
-    static const std::vector<Case> all{martinMoyceCase(), hydrostaticCase(),  freeFallCase(),
-                                       momentumCase(),    taylorGreenCase(),  archimedesCase(),
-                                       heaveCase(),       rayleighDropCase(), cubeToSphereCase(),
-                                       laplaceCase(),     wettingCase(),      openChannelCase(),
-                                       sloshingCase()};
+    static const std::vector<Case> all{martinMoyceCase(),  hydrostaticCase(),  freeFallCase(),
+                                       momentumCase(),     taylorGreenCase(),  archimedesCase(),
+                                       heaveCase(),        rayleighDropCase(), cubeToSphereCase(),
+                                       laplaceCase(),      wettingCase(),      openChannelCase(),
+                                       standingWaveCase(), sloshingCase()};
     return all;
 }
 
