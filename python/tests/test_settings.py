@@ -120,6 +120,7 @@ _STEP_CASES = {
     "solver.over_relaxation": (1.2, {}),
     "solver.warm_start": (0.5, {}),
     "solver.relaxation": (0.5, {}),
+    "solver.consistent_correction": (0.5, {}),
     "solver.artificial_pressure.k": (0.1, {}),
     "solver.artificial_pressure.n": (2, {}),
     "solver.artificial_pressure.dq": (0.1, {}),

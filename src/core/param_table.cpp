@@ -172,6 +172,16 @@ const ParamInfo kTable[] = {
     PBF_PARAM(SolverParams, relaxation, "solver.relaxation", "relaxation", "1",
               closed(1e-6, 10.0), kLive,
               "constraint-force-mixing ε of eq. 11, relative to the rest lattice's Σ\\|∇C\\|²"),
+    PBF_PARAM(SolverParams, consistentCorrection, "solver.consistent_correction",
+              "consistent_correction", "1", closed(0.0, 1.0), kLive,
+              "β: eq. 14's weight λ_i + λ_j becomes (1 − 2β) λ_i + λ_j. The paper's form (0) "
+              "conserves momentum but holds compressed water stiff against shear in proportion "
+              "to its pressure: waves run fast and are damped ([standing "
+              "wave](validation.md#standing-wave-frequency-and-decay)). 0.45 gives the standing "
+              "wave's frequency within 2 % and a third less damping, and a shaken tank's "
+              "resonance; but water at rest is noisier (above about 0.35), momentum is conserved "
+              "only where the λ are uniform, and floating bodies are wrong: for wave tanks "
+              "without bodies"),
     PBF_PARAM(ArtificialPressureParams, k, "solver.artificial_pressure.k", "scorr_k", "1",
               closed(0.0, 1.0), kLive,
               "s_corr strength (eq. 13), in units of the constraint (see below)"),

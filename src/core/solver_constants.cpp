@@ -169,6 +169,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
     c.scorrInverseWdq = 1.0f / c.poly6.value(dq * dq);
     c.scorrExponent = s.artificialPressure.n;
     c.overRelaxation = s.effectiveOverRelaxation();
+    c.ownLambdaWeight = 1.0f - 2.0f * s.consistentCorrection;
 
     const float r = params.particleRadius;
     c.particleRadius = r;

@@ -98,6 +98,18 @@ struct SolverParams {
     // Constraint-force-mixing epsilon of paper eq. 11, relative to the rest
     // lattice's sum |grad C|^2 (so the value means the same at any resolution).
     float relaxation = 0.01f;  // [1e-6, 10]
+    // Consistency of the position correction, beta in [0, 1]. Eq. 14 moves
+    // particle i by (lambda_i + lambda_j) grad W_ij, which conserves momentum
+    // but keeps the term lambda_i sum_j grad W_ij: wherever the water is
+    // compressed (under its own weight) that term pulls each particle back
+    // to the centre of its neighbours, a stiffness against shear
+    // proportional to the pressure (a standing wave runs 14 % fast and
+    // loses a sixth of its amplitude per period at r = 5 mm; docs/
+    // validation.md, "Standing wave"). beta removes 2 beta lambda_i from the
+    // weight: (1 - 2 beta) lambda_i + lambda_j. 0: the paper's form; 0.5:
+    // lambda_j alone; 1: lambda_j - lambda_i, exact for a uniform lambda.
+    // Above 0 momentum is conserved only where the lambdas are uniform.
+    float consistentCorrection = 0.0f;  // [0, 1]
     ArtificialPressureParams artificialPressure;
     // Kernel support h in units of the particle radius (h = 4 r: ~33 neighbours).
     float kernelRadiusFactor = 4.0f;  // [3, 6]

@@ -49,6 +49,8 @@ struct SolverConstants {
     float scorrInverseWdq = 0.0f;  // 1 / W(dq h)
     int scorrExponent = 4;
     float overRelaxation = 1.0f;  // omega: x* += omega dp (SolverParams::overRelaxation)
+    // Weight of lambda_i in eq. 14's pair term: 1 - 2 solver.consistent_correction.
+    float ownLambdaWeight = 1.0f;
     // Surface tension (backend/reference/equations.hpp, "Surface tension";
     // docs/surface_tension.md); all 0 while it is off. Pairs of which at
     // least one particle is on the surface (density below surfaceDensity)

@@ -164,7 +164,7 @@ struct CorrectionParticle {
         xi = hn::Set(d, x.x);
         yi = hn::Set(d, x.y);
         zi = hn::Set(d, x.z);
-        lambdaI = hn::Set(d, x.w);
+        lambdaI = hn::Set(d, x.w * p.c.ownLambdaWeight);  // the pair term's share of lambda_i
         sx = sy = sz = hn::Zero(d);
     }
 

@@ -94,10 +94,11 @@ PBF_HD inline float artificialPressure(const SolverConstants& c, const Vec3& rij
     return c.scorrScale * power;
 }
 
-// Eq. 14, the term of neighbour j: (m/rho0) (lambda_i + lambda_j + s_corr) grad W_ij.
+// Eq. 14, the term of neighbour j: (m/rho0) (lambda_i + lambda_j + s_corr) grad W_ij,
+// lambda_i weighted by 1 - 2 solver.consistent_correction (params.hpp).
 PBF_HD inline Vec3 positionCorrectionTerm(const SolverConstants& c, float lambdaI, float lambdaJ,
                                           const Vec3& rij) {
-    const float weight = lambdaI + lambdaJ + artificialPressure(c, rij);
+    const float weight = c.ownLambdaWeight * lambdaI + lambdaJ + artificialPressure(c, rij);
     return (massOverRestDensity(c) * weight) * c.spiky.gradient(rij, length(rij));
 }
 

@@ -105,6 +105,12 @@ TEST(DeviceWorld, OverRelaxedDamBreakAgreesWithTheCpu) {
                                        BackendKind::Cpu, deviceUnderTest(), options);
 }
 
+TEST(DeviceWorld, ConsistentCorrectionDamBreakAgreesWithTheCpu) {
+    PBF_REQUIRE_DEVICE();
+    expectDriftWithinOneUlpSensitivity(smallDamBreak(R"(, "consistent_correction": 0.45)"),
+                                       BackendKind::Cpu, deviceUnderTest(), DriftOptions{});
+}
+
 // A rigid body: the device records the coupled surface's moves and sums
 // them per body (fixed blocks, block order); the body it moves may drift
 // from the CPU run's no faster than that run's one-ulp twin.

@@ -74,6 +74,13 @@ TEST(WorldVsReference, OverRelaxedDamBreakAgrees) {
         parseScene(smallDamBreakJson(R"(, "over_relaxation": 1.2)"), "small_dam_break"), 40);
 }
 
+// The consistent correction's weight (solver.consistent_correction: the SIMD
+// pass scales lambda_i once per particle, the reference per pair).
+TEST(WorldVsReference, ConsistentCorrectionDamBreakAgrees) {
+    expectAgreementOverSubsteps(
+        parseScene(smallDamBreakJson(R"(, "consistent_correction": 0.45)"), "small_dam_break"), 50);
+}
+
 TEST(WorldVsReference, RigidBodyAgreesOverFiftySubsteps) {
     DriftOptions options;
     options.distance = bodyDistance;
