@@ -17,6 +17,7 @@ Case laplaceCase();
 Case heaveCase();
 Case openChannelCase();
 Case standingWaveCase();
+Case waveMakerCase();
 Case sloshingCase();
 
 const std::vector<Case>& cases() {
@@ -24,7 +25,7 @@ const std::vector<Case>& cases() {
                                        momentumCase(),     taylorGreenCase(),  archimedesCase(),
                                        heaveCase(),        rayleighDropCase(), cubeToSphereCase(),
                                        laplaceCase(),      wettingCase(),      openChannelCase(),
-                                       standingWaveCase(), sloshingCase()};
+                                       standingWaveCase(), waveMakerCase(),    sloshingCase()};
     return all;
 }
 

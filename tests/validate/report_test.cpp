@@ -105,7 +105,7 @@ TEST(ValidationCases, AllRegisteredWithUniqueNames) {
     EXPECT_EQ(names, (std::vector<std::string>{
                          "martin_moyce", "hydrostatic", "free_fall", "momentum", "taylor_green",
                          "archimedes", "heave", "rayleigh_drop", "cube_to_sphere", "laplace",
-                         "wetting", "open_channel", "standing_wave", "sloshing"}));
+                         "wetting", "open_channel", "standing_wave", "wave_maker", "sloshing"}));
 }
 
 // The observed order is the slope of log error against log h; the study
