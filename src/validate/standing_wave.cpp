@@ -53,7 +53,16 @@ Vec3 modeVelocity(double x, double y) {
             float(std::cos(k * x) * std::sinh(k * y) / s), 0.0f};
 }
 
-StandingWave measure(float radius, float consistentCorrection, double duration) {
+}  // namespace
+
+namespace detail {
+
+double standingWaveTheoryOmega() {
+    const double k = wavenumber();
+    return std::sqrt(kG * k * std::tanh(k * kDepth));
+}
+
+StandingWave standingWave(float radius, float consistentCorrection, double duration) {
     WorldDef def;
     def.name = "standing_wave";
     // Four particles across: the domain's walls are free slip, so a thin
@@ -106,8 +115,12 @@ StandingWave measure(float radius, float consistentCorrection, double duration) 
     return d;
 }
 
+}  // namespace detail
+
+namespace {
+
 StandingWave decay(float radius, float consistentCorrection, const Options& options) {
-    StandingWave d = measure(radius, consistentCorrection, kDuration);
+    StandingWave d = detail::standingWave(radius, consistentCorrection, kDuration);
     if (options.progress)
         options.progress(fmt::format(
             "standing_wave: radius {} m, consistent_correction {}: w = {:.3f} rad/s ({:+.1f} %), "
@@ -186,19 +199,6 @@ CaseResult run(const Options& options) {
 }
 
 }  // namespace
-
-namespace detail {
-
-double standingWaveTheoryOmega() {
-    const double k = wavenumber();
-    return std::sqrt(kG * k * std::tanh(k * kDepth));
-}
-
-StandingWave standingWave(float radius, float consistentCorrection, double duration) {
-    return measure(radius, consistentCorrection, duration);
-}
-
-}  // namespace detail
 
 Case standingWaveCase() {
     return {"standing_wave", "a standing wave's frequency against linear theory, its decay", run};
