@@ -80,6 +80,46 @@ struct Record {
     std::vector<std::vector<double>> elevation;  // per gauge, m above the still level
     std::vector<double> height;  // per gauge: twice the first harmonic's amplitude, m
     double period = 0.0;         // s: mean of the up-crossings at the first gauge
+    double wavelength = 0.0;     // m: the surface profile's dominant wavelength (reported)
+};
+
+// The wavelength of the waves along the flume: the wavenumber k (on a
+// 0.01 /m grid over 3.5-7.5 /m) that maximises the summed power
+// |sum_x eta(x) exp(-i k x)|^2 of the surface profiles from the first gauge
+// to 1.5 m beyond it, ten snapshots a second over the record.
+struct ProfilePower {
+    std::vector<double> k, power;
+    ProfilePower() {
+        for (int n = 0; n <= 400; ++n) k.push_back(3.5 + 0.01 * n);
+        power.assign(k.size(), 0.0);
+    }
+    void add(const World& world) {
+        const ParticleStore& p = world.particles();
+        const float r = world.settings().particleRadius;
+        const double from = kPaddleFace + 0.4, to = from + 1.5, bin = 2.0 * r;
+        const auto bins = static_cast<std::size_t>((to - from) / bin);
+        std::vector<double> top(bins, -1.0);
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const double x = p.position.x[i];
+            if (x < from || x >= to) continue;
+            const auto b = std::min(bins - 1, static_cast<std::size_t>((x - from) / bin));
+            top[b] = std::max(top[b], double(p.position.y[i]));
+        }
+        double mean = 0.0;
+        for (const double y : top) mean += y;
+        mean /= double(bins);
+        for (std::size_t n = 0; n < k.size(); ++n) {
+            std::complex<double> sum;
+            for (std::size_t b = 0; b < bins; ++b)
+                sum += (top[b] - mean) * std::exp(std::complex<double>(
+                                             0.0, -k[n] * (from + (double(b) + 0.5) * bin)));
+            power[n] += std::norm(sum);
+        }
+    }
+    double wavelength() const {
+        const auto best = std::max_element(power.begin(), power.end()) - power.begin();
+        return 2.0 * std::numbers::pi / k[std::size_t(best)];
+    }
 };
 
 bool inRecord(double t) {
@@ -140,20 +180,25 @@ Record run(float radius, float correction, const Options& options) {
     r.elevation.resize(std::size(kGauges));
     std::vector<double> rest;
     for (const double g : kGauges) rest.push_back(surfaceAt(world, kPaddleFace + g));
+    ProfilePower profiles;
     while (world.time() < kRecordEnd - 1e-9) {
         detail::step(world);
         r.t.push_back(world.time());
+        const auto frame = std::lround(world.time() * kFps);
+        if (inRecord(world.time()) && frame % 6 == 0) profiles.add(world);
         for (std::size_t k = 0; k < std::size(kGauges); ++k)
             r.elevation[k].push_back(surfaceAt(world, kPaddleFace + kGauges[k]) - rest[k]);
     }
     for (const std::vector<double>& e : r.elevation)
         r.height.push_back(firstHarmonicHeight(r.t, e));
     r.period = upCrossingPeriod(r.t, r.elevation.front());
+    r.wavelength = profiles.wavelength();
     if (options.progress)
         options.progress(fmt::format(
             "wave_maker: radius {} m, consistent_correction {}: H = {:.4f} m at {} m, {:.4f} m "
-            "at {} m, period {:.3f} s",
-            radius, correction, r.height[0], kGauges[0], r.height[1], kGauges[1], r.period));
+            "at {} m, period {:.3f} s, wavelength {:.3f} m",
+            radius, correction, r.height[0], kGauges[0], r.height[1], kGauges[1], r.period,
+            r.wavelength));
     return r;
 }
 
@@ -216,19 +261,23 @@ CaseResult runCase(const Options& options) {
 
     std::string rows;
     for (const Record* r : all)
-        rows += fmt::format("| {:g} | {:g} | {} | {:.1f} ({:+.0f} %) | {:.1f} | {:.3f} |\n",
-                            1e3 * r->radius, r->correction, r->particles, 1e3 * r->height[0],
-                            100.0 * (r->height[0] / kHeight - 1.0), 1e3 * r->height[1], r->period);
+        rows += fmt::format(
+            "| {:g} | {:g} | {} | {:.1f} ({:+.0f} %) | {:.1f} | {:.3f} | {:.3f} ({:+.0f} %) |\n",
+            1e3 * r->radius, r->correction, r->particles, 1e3 * r->height[0],
+            100.0 * (r->height[0] / kHeight - 1.0), 1e3 * r->height[1], r->period, r->wavelength,
+            100.0 * (r->wavelength / theory.wavelength - 1.0));
     result.notes = fmt::format(
         "A flume {} m long, {} m deep, a piston paddle (its face at x = {} m) asked for waves "
         "{} m high of {} s (wavelength {:.3f} m, k h = {:.2f}; stroke {:.4f} m, ramp 2 s), a "
         "1:5 beach from x = {} m, six particles across. The wave height is twice the first "
         "harmonic's amplitude of the surface (the highest particle within a spacing) over "
-        "t = {}-{} s; the period the mean up-crossing interval there. The run with "
+        "t = {}-{} s; the period the mean up-crossing interval there; the wavelength (reported) "
+        "the "
+        "dominant one of the surface profiles over the 1.5 m beyond the gauge. The run with "
         "solver.consistent_correction {:g} is reported, not checked.\n\n"
         "| r (mm) | consistent_correction | particles | H at {} m (mm) | H at {} m (mm) | period "
-        "(s) |\n"
-        "| --- | --- | --- | --- | --- | --- |\n{}",
+        "(s) | wavelength (m) |\n"
+        "| --- | --- | --- | --- | --- | --- | --- |\n{}",
         kLength, kDepth, kPaddleFace, kHeight, kPeriod, theory.wavelength,
         theory.waveNumber * kDepth, theory.stroke, kBeachToe, kRecordStart, kRecordEnd, kCorrection,
         kGauges[0], kGauges[1], rows);
