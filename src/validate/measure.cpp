@@ -1,5 +1,7 @@
 #include "validate/measure.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -69,6 +71,13 @@ Line fitLine(const std::vector<double>& x, const std::vector<double>& y) {
     line.slope = (n * sxy - sx * sy) / d;
     line.intercept = (sy - line.slope * sx) / n;
     return line;
+}
+
+std::string runLabel(float radius, float consistentCorrection) {
+    if (consistentCorrection > 0.0f)
+        return fmt::format("r = {:g} mm, consistent_correction {:g}", 1e3 * radius,
+                           consistentCorrection);
+    return fmt::format("r = {:g} mm", 1e3 * radius);
 }
 
 plot::Series record(CaseResult& result, const std::string& series, const std::string& xName,

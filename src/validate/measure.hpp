@@ -39,6 +39,10 @@ struct Line {
 };
 Line fitLine(const std::vector<double>& x, const std::vector<double>& y);
 
+// A run's name in plots and CSV: "r = 5 mm", or "r = 5 mm,
+// consistent_correction 0.45" for a run with solver.consistent_correction.
+std::string runLabel(float radius, float consistentCorrection = 0.0f);
+
 // Adds `x`, `y` as a column of the case's CSV and returns them as a plot series.
 plot::Series record(CaseResult& result, const std::string& series, const std::string& xName,
                     const std::vector<double>& x, const std::string& yName,

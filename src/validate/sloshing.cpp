@@ -165,12 +165,8 @@ CaseResult run(const Options& options) {
             ratio.push_back(r.period / t1);
             height.push_back(1e3 * r.height);
         }
-        const std::string name = s.correction > 0.0f
-                                     ? fmt::format("r = {:g} mm, consistent_correction {:g}",
-                                                   1e3 * s.radius, s.correction)
-                                     : fmt::format("r = {:g} mm", 1e3 * s.radius);
-        response.series.push_back(
-            detail::record(result, name, "period_over_t1", ratio, "mm", height));
+        response.series.push_back(detail::record(result, detail::runLabel(s.radius, s.correction),
+                                                 "period_over_t1", ratio, "mm", height));
     }
     plot::Panel motion{fmt::format("Water at the wall (r = {:g} mm)", 1e3 * sweeps.back().radius),
                        "t (s)",

@@ -39,10 +39,6 @@ double wavenumber() {
     return std::numbers::pi / kLength;
 }
 
-double theoryOmega() {
-    return detail::standingWaveTheoryOmega();
-}
-
 // The mode's velocity per unit surface velocity amplitude at (x, y), y from
 // the bottom: the gradient of cos(kx) cosh(ky) / sinh(kh), the phase at
 // which the surface is level and the water moves fastest.
@@ -77,7 +73,7 @@ StandingWave standingWave(float radius, float consistentCorrection, double durat
     while (world.time() < kSettle - 1e-9) detail::step(world);
 
     // Surface velocity amplitude a w for a surface amplitude a.
-    const double speed = kAmplitude * theoryOmega();
+    const double speed = kAmplitude * standingWaveTheoryOmega();
     auto project = [&](const ParticleArrays& a) {
         double along = 0.0, norm = 0.0;
         for (std::size_t i = 0; i < a.count; ++i) {
@@ -125,8 +121,8 @@ StandingWave decay(float radius, float consistentCorrection, const Options& opti
         options.progress(fmt::format(
             "standing_wave: radius {} m, consistent_correction {}: w = {:.3f} rad/s ({:+.1f} %), "
             "damping ratio {:.3f}",
-            radius, consistentCorrection, d.omega, 100.0 * (d.omega / theoryOmega() - 1.0),
-            d.fit.dampingRatio));
+            radius, consistentCorrection, d.omega,
+            100.0 * (d.omega / detail::standingWaveTheoryOmega() - 1.0), d.fit.dampingRatio));
     return d;
 }
 
@@ -134,7 +130,7 @@ CaseResult run(const Options& options) {
     CaseResult result;
     result.name = "standing_wave";
     result.title = "A standing wave in a closed tank: frequency and decay";
-    const double omega = theoryOmega();
+    const double omega = detail::standingWaveTheoryOmega();
     const std::vector<float> radii = options.quick ? std::vector<float>{0.005f, 0.0025f}
                                                    : std::vector<float>{0.005f, 0.0025f, 0.00125f};
     std::vector<StandingWave> runs, corrected;
@@ -142,14 +138,11 @@ CaseResult run(const Options& options) {
     for (const float r : {0.005f, 0.0025f}) corrected.push_back(decay(r, kCorrection, options));
 
     plot::Panel panel{"The mode's velocity amplitude", "t (s)", "amplitude / start", {}};
-    for (const StandingWave& d : runs)
-        panel.series.push_back(detail::record(result, fmt::format("r = {:g} mm", 1e3 * d.radius),
-                                              "t_s", d.t, "amplitude", d.amplitude));
-    for (const StandingWave& d : corrected)
-        panel.series.push_back(detail::record(
-            result,
-            fmt::format("r = {:g} mm, consistent_correction {:g}", 1e3 * d.radius, kCorrection),
-            "t_s", d.t, "amplitude", d.amplitude));
+    for (const std::vector<StandingWave>* set : {&runs, &corrected})
+        for (const StandingWave& d : *set)
+            panel.series.push_back(
+                detail::record(result, detail::runLabel(d.radius, d.consistentCorrection), "t_s",
+                               d.t, "amplitude", d.amplitude));
     result.figure = {result.title, {panel}, 1};
 
     const StandingWave& fine = runs.back();

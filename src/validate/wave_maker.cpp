@@ -212,12 +212,7 @@ CaseResult runCase(const Options& options) {
     for (const float r : radii) records.push_back(run(r, 0.0f, options));
     const Record corrected = run(0.008f, kCorrection, options);
 
-    PrescribedMotion piston;
-    piston.kind = PrescribedMotion::Kind::Piston;
-    piston.waveHeight = kHeight;
-    piston.period = kPeriod;
-    piston.depth = kDepth;
-    const WaveMaker theory = waveMakerOf(piston);
+    const WaveMaker theory = waveMakerOf(flume(radii.front(), 0.0f).solids.front().motion);
 
     plot::Panel surface{
         fmt::format("Surface {} m from the paddle", kGauges[0]), "t (s)", "elevation (mm)", {}};
@@ -227,11 +222,8 @@ CaseResult runCase(const Options& options) {
     for (const Record* r : all) {
         std::vector<double> mm;
         for (const double e : r->elevation.front()) mm.push_back(1e3 * e);
-        const std::string name = r->correction > 0.0f
-                                     ? fmt::format("r = {:g} mm, consistent_correction {:g}",
-                                                   1e3 * r->radius, r->correction)
-                                     : fmt::format("r = {:g} mm", 1e3 * r->radius);
-        surface.series.push_back(detail::record(result, name, "t_s", r->t, "mm", mm));
+        surface.series.push_back(detail::record(result, detail::runLabel(r->radius, r->correction),
+                                                "t_s", r->t, "mm", mm));
     }
     result.figure = {result.title, {surface}, 1};
 
