@@ -128,6 +128,7 @@ _STEP_CASES = {
     "solver.cfl": (0.05, {}),
     "solver.max_time_step": (1e-3, {}),
     "solver.max_substeps": (2, {"solver.cfl": 0.05}),
+    "solver.depth_limit": (0.01, {}),
     "solver.substeps": (3, {"solver.time_step": "fixed"}),
     "solver.restitution": (0.8, {}),
     "solver.friction": (1.0, {}),

@@ -201,6 +201,11 @@ const ParamInfo kTable[] = {
               openClosed(0.0, 1.0), kLive, "adaptive: upper bound of a substep", "", "1/240"),
     PBF_PARAM(SolverParams, maxSubsteps, "solver.max_substeps", "max_substeps", "",
               closed(1, 10000), kLive, "adaptive: at most this many substeps per frame (surface tension's capillary time step, a limit of stability, overrides it)"),
+    PBF_PARAM(SolverParams, depthLimit, "solver.depth_limit", "depth_limit", "1", closed(0.0, 1.0),
+              kLive,
+              "adaptive, fixed iterations: substep ≤ spacing × √(depth_limit × iterations / (g × "
+              "depth)), the depth the fluid blocks start with; deeper water at a longer step "
+              "erupts as it starts ([deep water](scenes.md#deep-water-how-long-a-substep-may-be)); 0: off"),
     PBF_PARAM(SolverParams, fixedSubsteps, "solver.substeps", "substeps", "", closed(1, 10000),
               kLive, "fixed: substeps per frame"),
     PBF_PARAM(SolverParams, restitution, "solver.restitution", "restitution", "1",

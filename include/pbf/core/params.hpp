@@ -123,6 +123,12 @@ struct SolverParams {
     // step's gravity push), so a resting tank settles at 1/240 s, not 1/60 s.
     float maxTimeStep = 1.0f / 240.0f;  // seconds, (0, 1]
     int maxSubsteps = 200;              // per frame, [1, 10000]
+    // Adaptive mode with fixed iterations: substeps short enough that
+    // Pi = (depth / spacing) (g dt^2 / spacing) / iterations stays at most
+    // this, for the depth the fluid blocks start with (World::depthStep):
+    // deeper water erupts at the start (0.2 m at r = 3 mm and 1/240 s:
+    // Pi = 0.23). 0: off.
+    float depthLimit = 0.1f;  // [0, 1]
     // Fixed mode: exactly this many substeps per frame.
     int fixedSubsteps = 2;  // [1, 10000]
 

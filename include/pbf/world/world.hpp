@@ -194,9 +194,12 @@ class World {
     // the frame: min(max_time_step, cfl * spacing / speed), where speed is the
     // largest particle or body-surface speed plus what gravity adds in one
     // step (and, with fluid.kinematic_viscosity nu, at most 0.05 spacing^2 /
-    // nu), then evened out so that the frame ends on a whole number of
-    // equal substeps.
+    // nu; with fixed iterations, depthStep), then evened out so that the
+    // frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
+    // solver.depth_limit's bound on a substep (s; infinite when it does not
+    // apply): World::depthStep.
+    double depthStep() const;
 
     // The state, for checkpoints; restoreState puts one back (particles in
     // their memory order: the solver's stable sort depends on it, so
@@ -238,6 +241,9 @@ class World {
     };
     std::vector<DrivenSolid> driven_;
     double drivenSpeed_ = 0.0;
+    // The fluid blocks' extent along gravity at the start (m): the depth
+    // solver.depth_limit is applied to.
+    double startDepth_ = 0.0;
     std::size_t skipped_ = 0;
     int frame_ = 0;
     double time_ = 0.0;
