@@ -149,6 +149,13 @@ int runScene(RunArguments args) {
                 stderr,
                 "pbf run: {} fluid-block particles not created: they would be inside a solid\n",
                 world.skippedParticles());
+        if (const SolverParams& s = world.settings().solver;
+            s.timeStepMode == TimeStepMode::Adaptive && world.depthStep() < s.maxTimeStep)
+            fmt::print(stderr,
+                       "pbf run: deep water: substeps of at most {:.3g} ms, not {:.3g} "
+                       "(solver.depth_limit {:g}: a longer step lets the column slam and erupt as "
+                       "it starts; docs/scenes.md, \"Deep water\")\n",
+                       1e3 * world.depthStep(), 1e3 * s.maxTimeStep, s.depthLimit);
         const double particleVolume = std::pow(world.settings().particleSpacing(), 3.0);
         for (const Emitter& e : world.emitters())
             fmt::print(stderr,
