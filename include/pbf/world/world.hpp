@@ -197,8 +197,10 @@ class World {
     // nu; with fixed iterations, depthStep), then evened out so that the
     // frame ends on a whole number of equal substeps.
     double adaptiveSubstep(double remaining) const;
-    // solver.depth_limit's bound on a substep (s; infinite when it does not
-    // apply): World::depthStep.
+    // solver.depth_limit's bound on a substep (s): the step at which water as
+    // deep as the fluid blocks start stays at Pi = depth_limit (world.cpp);
+    // infinite without gravity, with the limit at 0 or with a density
+    // tolerance (max_density_error).
     double depthStep() const;
 
     // The state, for checkpoints; restoreState puts one back (particles in
