@@ -127,7 +127,7 @@ struct SolverParams {
     // Pi = (depth / spacing) (g dt^2 / spacing) / iterations stays at most
     // this, for the depth the fluid blocks start with (World::depthStep):
     // deeper water erupts at the start (0.2 m at r = 3 mm and 1/240 s:
-    // Pi = 0.23). 0: off.
+    // Pi = 0.24). 0: off.
     float depthLimit = 0.1f;  // [0, 1]
     // Fixed mode: exactly this many substeps per frame.
     int fixedSubsteps = 2;  // [1, 10000]
