@@ -51,6 +51,8 @@ enum class Stage {
     ExchangeVorticity,        // MPI: ghosts' omega
     PhysicalViscosity,        // v += dt nu lap v (fluid.kinematic_viscosity)
     VorticityConfinement,     // v += dt f_vorticity
+    SurfaceLayer,             // s_i: who is in the surface layer (not a strand)
+    ExchangeSurfaceLayer,     // MPI: ghosts' s
     SurfaceTension,           // v += dt a: cohesion of the surface layer, adhesion
     ColourGradient,           // g_i of the curvature force (the surface band)
     ExchangeColourGradient,   // MPI: ghosts' g
@@ -101,6 +103,8 @@ inline const StageInfo& stageInfo(Stage stage) {
         {"exchange_vorticity", &T::postProcess, &T::exchange},
         {"physical_viscosity", &T::postProcess, nullptr},
         {"vorticity_confinement", &T::postProcess, nullptr},
+        {"surface_layer", &T::postProcess, nullptr},
+        {"exchange_surface_layer", &T::postProcess, &T::exchange},
         {"surface_tension", &T::postProcess, nullptr},
         {"colour_gradient", &T::postProcess, nullptr},
         {"exchange_colour_gradient", &T::postProcess, &T::exchange},

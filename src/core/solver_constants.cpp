@@ -80,6 +80,15 @@ constexpr float kSurfaceFloor = 0.2f;    // g0: the floor on |g| times the spaci
 constexpr float kSurfaceOffset = 0.7f;   // e / d
 constexpr double kCohesionPull = 0.45;        // the cohesion's pull, of the lattice derivation's
 
+// A strand is below the resolution when the middle eigenvalue of its
+// particles' neighbour spread (equations.hpp, "Strands") is under this many
+// d^2. Measured on particles: a neck that stopped thinning at about two
+// particles across reads 0.12 d^2 (90 % below 0.14), a chain 0; the rest
+// lattice's edges 0.20 and corners 0.21, a flat surface 0.40, a drop's
+// surface layer 0.31 or more. A uniform disc of radius a reads a^2 / 4: the
+// threshold is a strand 1.6 spacings across.
+constexpr double kStrandSpread = 0.16;
+
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
 // tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
 // spacing d, poly6 W):
@@ -196,6 +205,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         const double m = c.particleMass;
         const CohesionLattice lattice = cohesionLattice(c.poly6, d);
         c.surfaceDensity = static_cast<float>((1.0 - kSurfaceDeficit) * c.restDensity);
+        c.strandSpread2 = static_cast<float>(kStrandSpread * d * d);
         // The surface energy is epsilon times the density the surface layer
         // misses: splitting the lattice costs epsilon m topLayerDeficit per
         // area and side, so sigma = kCohesionCalibration epsilon m deficit.

@@ -111,8 +111,9 @@ struct EquatorForces {
     }
 };
 
-// From the end-of-step state: the positions and the densities the cohesion
-// used (reference::cohesionTerm, the equations of the SIMD pass).
+// From the end-of-step state: the positions and the surface layer the
+// cohesion used (reference::surfaceLayer, cohesionTerm: the equations of the
+// solver's passes).
 EquatorForces equatorForces(const World& world, double plane, double radius) {
     const SolverConstants& c = world.constants();
     const ParticleStore& p = world.particles();
@@ -168,15 +169,18 @@ EquatorForces equatorForces(const World& world, double plane, double radius) {
         bandWeight += w;
     }
     f.bandRadius /= bandWeight;
+    std::vector<float> layer(n);
+    for (std::size_t i = 0; i < n; ++i)
+        layer[i] = reference::surfaceLayer(c, nullptr, x, p.density[i], neighbours[i], i);
     for (std::size_t i = 0; i < x.size(); ++i) {
-        const bool si = reference::onSurface(c, p.density[i]);
+        const bool si = layer[i] > 0.0f;
         double sum = flat(0.0);
         for (const std::uint32_t j : grid.neighbors(i)) {
             const Vec3 rij = x[i] - x[j];
             const float r2 = lengthSquared(rij);
             sum += flat(r2);
             if (!(x[i].y > plane) || x[j].y > plane) continue;
-            const bool sj = reference::onSurface(c, p.density[j]);
+            const bool sj = layer[j] > 0.0f;
             const double fy = m * double(reference::cohesionTerm(c, rij, si, sj).y);
             (r2 < c.cohesionCoreDistance2 ? f.core : f.pull) += fy;
             const double cy =

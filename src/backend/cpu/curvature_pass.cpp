@@ -1,7 +1,8 @@
-// The curvature force's four passes on the CPU (equations.hpp, "Curvature
-// force"): the reference's per-particle sums (neighbor_sums.hpp) over the
-// solver's neighbour lists and packed x*, so that the CPU, the reference
-// and the device backends compute the same terms in the same order.
+// The scalar passes of surface tension on the CPU: the surface layer's
+// weights (equations.hpp, "Strands") and the curvature force's four passes
+// ("Curvature force"): the reference's per-particle sums (neighbor_sums.hpp)
+// over the solver's neighbour lists and packed x*, so that the CPU, the
+// reference and the device backends compute the same terms in the same order.
 #include <cstddef>
 #include <cstdint>
 
@@ -40,6 +41,17 @@ std::uint32_t index(std::size_t i) {
 }
 
 }  // namespace
+
+void computeSurfaceLayer(const SolverStep& s, std::size_t begin, std::size_t end) {
+    const SolverConstants& c = s.context.constants;
+    const NeighborSearch& search = s.search;
+    const PackedPoint* predicted = s.predicted;
+    const float* density = s.particles.density.data();
+    float* layer = s.surfaceLayer;
+    for (std::size_t i = begin; i < end; ++i)
+        layer[i] = reference::surfaceLayerOf(c, s.solids, ListNeighbors{search.neighbors(i)},
+                                             PackedPositions{predicted}, density[i], index(i));
+}
 
 void computeColourGradient(const SolverStep& s, std::size_t begin, std::size_t end) {
     const SolverConstants& c = s.context.constants;

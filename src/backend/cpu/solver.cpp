@@ -37,10 +37,10 @@ void convergenceCheck(SolverStep& s) {
         s.corrections, averageCompression(s.compression[0], std::uint64_t(s.compression[1])));
 }
 
-// Surface tension reads the neighbours' (x*, rho) (the ghosts' are current
-// after the iterations): packed first, into the buffer (v, rho) was in.
+// Surface tension reads the neighbours' (x*, s) (the ghosts' s from their
+// owners): packed first, into the buffer (v, rho) was in.
 void surfaceTension(SolverStep& s) {
-    overAll<stages::packPositionDensities>(s);
+    overAll<stages::packPositionLayers>(s);
     overOwned<stages::applySurfaceTension>(s);
 }
 
@@ -123,6 +123,8 @@ void Solver::buildPlan() {
                             whenOn(&T::physicalViscosity)});
     plan_.add(Part::After, {Stage::VorticityConfinement,
                             overOwned<stages::applyVorticityConfinement>, whenOn(&T::vorticity)});
+    plan_.add(Part::After,
+              {Stage::SurfaceLayer, solver(&Solver::surfaceLayer), whenOn(&T::cohesion)});
     plan_.add(Part::After, {Stage::SurfaceTension, surfaceTension, whenOn(&T::cohesion)});
     plan_.add(Part::After,
               {Stage::ColourGradient, solver(&Solver::colourGradient), whenOn(&T::curvature)});
@@ -141,7 +143,7 @@ void Solver::sortByCell(SolverStep& s) {
     s.ownedBegin = 0;
     s.ownedEnd = n;
     s.predicted = packed_.data();
-    s.withLambda = s.velocityDensity = s.positionDensity = packedWithLambda_.data();
+    s.withLambda = s.velocityDensity = s.positionLayer = packedWithLambda_.data();
     s.vorticity = &vorticity_;
     // The lambda buffer is idle until the density pass rewrites it: the
     // sort's scratch.
@@ -167,6 +169,12 @@ void Solver::compressionTotals(SolverStep& s) {
     for (const std::int64_t block : blockCompression_) s.compression[0] += block;
 }
 
+void Solver::surfaceLayer(SolverStep& s) {
+    surfaceLayer_.resize(s.particles.size());
+    s.surfaceLayer = surfaceLayer_.data();
+    overOwned<stages::computeSurfaceLayer>(s);
+}
+
 void Solver::colourGradient(SolverStep& s) {
     const std::size_t n = s.particles.size();
     colourGradient_.resize(n);
@@ -190,7 +198,7 @@ std::size_t Solver::memoryBytes() const {
            sizeof(float) * 3 *
                (vorticity_.x.capacity() + colourGradient_.x.capacity() + bandNormal_.x.capacity()) +
            sizeof(std::int64_t) * blockCompression_.capacity() +
-           sizeof(float) * curvature_.capacity();
+           sizeof(float) * (curvature_.capacity() + surfaceLayer_.capacity());
 }
 
 }  // namespace pbf

@@ -74,12 +74,13 @@ struct SolverStep : StepProgress {
     // The iterations alternate between these (Jacobi): x* -> (x*, lambda) ->
     // corrected x*. The post-process reuses them: x* stays in `predicted`,
     // the other buffer holds (v, rho) from the velocity update on, then
-    // (x*, rho) for surface tension (the three names are the one buffer).
+    // (x*, s) for surface tension (the three names are the one buffer).
     PackedPoint* predicted = nullptr;
     PackedPoint* withLambda = nullptr;
     PackedPoint* velocityDensity = nullptr;
-    PackedPoint* positionDensity = nullptr;
+    PackedPoint* positionLayer = nullptr;
     Float3Array* vorticity = nullptr;  // omega_i, only while vorticity confinement is on
+    float* surfaceLayer = nullptr;     // s_i, only while surface tension is on
     // The curvature force's fields, only while surface tension is on.
     Float3Array* colourGradient = nullptr;  // g_i
     Float3Array* bandNormal = nullptr;      // nb_i
@@ -118,6 +119,7 @@ class Solver {
     void packPositions(SolverStep& s);
     void densityAndLambda(SolverStep& s);
     void compressionTotals(SolverStep& s);
+    void surfaceLayer(SolverStep& s);
     void colourGradient(SolverStep& s);
 
     NeighborSearch search_;
@@ -129,6 +131,7 @@ class Solver {
     std::vector<PackedPoint> packedWithLambda_;
     Float3Array vorticity_;
     std::vector<std::int64_t> blockCompression_;  // sum of C_i per block, fixed point
+    std::vector<float> surfaceLayer_;             // s_i, the surface layer's weights
     Float3Array colourGradient_;                  // the curvature force's g_i
     Float3Array bandNormal_;                      // nb_i
     std::vector<float> curvature_;                // kappa_i

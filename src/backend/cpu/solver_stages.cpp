@@ -70,12 +70,12 @@ void unpackPositions(const SolverStep& s, std::size_t begin, std::size_t end) {
         predicted.set(i, {packed[i].x, packed[i].y, packed[i].z});
 }
 
-void packPositionDensities(const SolverStep& s, std::size_t begin, std::size_t end) {
+void packPositionLayers(const SolverStep& s, std::size_t begin, std::size_t end) {
     const PackedPoint* predicted = s.predicted;
-    const float* density = s.particles.density.data();
-    PackedPoint* positionDensity = s.positionDensity;
+    const float* layer = s.surfaceLayer;
+    PackedPoint* positionLayer = s.positionLayer;
     for (std::size_t i = begin; i < end; ++i)
-        positionDensity[i] = {predicted[i].x, predicted[i].y, predicted[i].z, density[i]};
+        positionLayer[i] = {predicted[i].x, predicted[i].y, predicted[i].z, layer[i]};
 }
 
 void updateVelocity(const SolverStep& s, std::size_t begin, std::size_t end) {

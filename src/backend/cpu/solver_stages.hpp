@@ -73,9 +73,14 @@ void applyPhysicalViscosity(const SolverStep& s, std::size_t begin, std::size_t 
 // a_i = epsilon h |omega_i| (N x omega_i); adds dt a_i to v_i.
 void applyVorticityConfinement(const SolverStep& s, std::size_t begin, std::size_t end);
 
-// Surface tension (reference::onSurface, cohesionTerm, adhesionAcceleration):
+// s_i, the surface layer's weight (reference::surfaceLayerOf: on the surface
+// and not a strand below the resolution), from the neighbours' x* in
+// s.predicted and the particle's density, into s.surfaceLayer.
+void computeSurfaceLayer(const SolverStep& s, std::size_t begin, std::size_t end);
+
+// Surface tension (reference::cohesionTerm, adhesionAcceleration):
 // v_i += dt a_i, a_i the cohesion of the surface layer from the neighbours'
-// (x*, rho) in s.positionDensity plus the pull of the walls
+// (x*, s) in s.positionLayer plus the pull of the walls
 // (solver.wall_adhesion) and of the nearest solid (its SolidSet::adhesion).
 // A coupled solid's pull is recorded in s.reactions (may be null) as the
 // move dt^2 a; [begin, end) must then lie in one block of detail::kBlockSize.
@@ -91,8 +96,8 @@ void computeBandNormal(const SolverStep& s, std::size_t begin, std::size_t end);
 void computeCurvature(const SolverStep& s, std::size_t begin, std::size_t end);
 void applyCurvatureForce(const SolverStep& s, std::size_t begin, std::size_t end);
 
-// (x*, rho) packed into s.positionDensity for surface tension's pass.
-void packPositionDensities(const SolverStep& s, std::size_t begin, std::size_t end);
+// (x*, s) packed into s.positionLayer for surface tension's pass.
+void packPositionLayers(const SolverStep& s, std::size_t begin, std::size_t end);
 
 // Restitution and friction against the walls of the collision box and the
 // solids (boundary::respondToWalls, boundary::respondToSolids). A coupled

@@ -1,7 +1,8 @@
 // The SIMD pass of surface tension: every particle's cohesion (the pair
 // force of the surface layer) from its neighbours at the end-of-step
 // positions x* plus the walls' and solids' adhesion, added to its velocity
-// (v += dt a). The scalar equations are reference::cohesionTerm and
+// (v += dt a), the surface layer's weights s read from the packed records.
+// The scalar equations are reference::cohesionTerm and
 // reference::adhesionAcceleration (backend/reference/equations.hpp,
 // "Surface tension and adhesion").
 // Compiled once per instruction set target like neighbor_passes.cpp.
@@ -33,15 +34,14 @@ struct SurfaceTensionPass {
     float dt;
     ReactionAccumulator* reactions;  // null: no coupled solid
     const NeighborSearch& search;
-    const PackedPoint* positionDensity;  // (x*, rho)
-    const PackedPoint* neighborRecords;  // positionDensity + the block's list base
+    const PackedPoint* positionLayer;    // (x*, s)
+    const PackedPoint* neighborRecords;  // positionLayer + the block's list base
     Float3Array& velocity;
     PairConstants k;
     FloatVec minDistance2;   // d^2: no pull within one spacing
     FloatVec coreDistance2;  // r_c^2: pushed apart within it
     FloatVec coreDistance;
     FloatVec minusTwoCoreScale;
-    FloatVec surfaceDensity;  // rho below which a particle is on the surface
 };
 
 template <bool Wide>
@@ -53,29 +53,26 @@ struct CohesionParticle {
     HWY_INLINE CohesionParticle(const SurfaceTensionPass& p, std::size_t i)
         : list(p.search.neighbors(i)) {
         const FloatTag d;
-        const PackedPoint& x = p.positionDensity[i];
+        const PackedPoint& x = p.positionLayer[i];
         xi = hn::Set(d, x.x);
         yi = hn::Set(d, x.y);
         zi = hn::Set(d, x.z);
-        surfaceI = hn::Set(d, reference::onSurface(p.c, x.w) ? 1.0f : 0.0f);
+        surfaceI = hn::Set(d, x.w);
         ax = ay = az = hn::Zero(d);
     }
 
     HWY_INLINE void addBatch(const SurfaceTensionPass& p, std::size_t first) {
-        const FloatTag d;
         const PairBatch b = loadPairs<Wide>(p.k, p.neighborRecords, xi, yi, zi, list, first);
-        // reference::cohesionWeight; w holds rho_j.
+        // reference::cohesionWeight; w holds s_j.
         const FloatVec q = hn::Sub(p.k.h2, b.r2);
         const FloatVec r = hn::Mul(b.r2, b.inverseR);
         const FloatVec coreGap = hn::Sub(p.coreDistance, r);
         const FloatVec core = hn::Mul(hn::Mul(coreGap, coreGap), b.inverseR);
         const FloatMask pulls = hn::And(b.inside, hn::Gt(b.r2, p.minDistance2));
         const FloatMask pushes = hn::And(b.inside, hn::Lt(b.r2, p.coreDistance2));
-        const FloatVec surfaceJ =
-            hn::IfThenElseZero(hn::Lt(b.w, p.surfaceDensity), hn::Set(d, 1.0f));
         const FloatVec weight = hn::IfThenElse(
             pushes, hn::Mul(p.minusTwoCoreScale, core),
-            hn::IfThenElseZero(pulls, hn::Mul(hn::Mul(q, q), hn::Add(surfaceI, surfaceJ))));
+            hn::IfThenElseZero(pulls, hn::Mul(hn::Mul(q, q), hn::Add(surfaceI, b.w))));
         ax = hn::MulAdd(weight, b.dx, ax);
         ay = hn::MulAdd(weight, b.dy, ay);
         az = hn::MulAdd(weight, b.dz, az);
@@ -83,7 +80,7 @@ struct CohesionParticle {
 
     HWY_INLINE void finish(const SurfaceTensionPass& p, std::size_t i) const {
         const SolverConstants& c = p.c;
-        const Vec3 x{p.positionDensity[i].x, p.positionDensity[i].y, p.positionDensity[i].z};
+        const Vec3 x{p.positionLayer[i].x, p.positionLayer[i].y, p.positionLayer[i].z};
         // -cohesionScale (s_i + s_j) (h^2 - r^2)^2 (x_i - x_j) summed, the scale applied once.
         const Vec3 cohesion =
             Vec3{sumOfLanes(ax), sumOfLanes(ay), sumOfLanes(az)} * -c.cohesionScale;
@@ -103,7 +100,7 @@ void SurfaceTension(const SolverStep& s, std::size_t begin, std::size_t end) {
     const float dt = s.dt;
     ReactionAccumulator* reactions = s.reactions;
     const NeighborSearch& search = s.search;
-    const PackedPoint* positionDensity = s.positionDensity;
+    const PackedPoint* positionLayer = s.positionLayer;
     Float3Array& velocity = s.particles.velocity;
     const FloatTag d;
     forEachListBlock(search, begin, end,
@@ -114,15 +111,14 @@ void SurfaceTension(const SolverStep& s, std::size_t begin, std::size_t end) {
                                                        dt,
                                                        reactions,
                                                        search,
-                                                       positionDensity,
-                                                       positionDensity + block.base,
+                                                       positionLayer,
+                                                       positionLayer + block.base,
                                                        velocity,
                                                        pairConstants(c.h, c.poly6.h2),
                                                        hn::Set(d, c.cohesionMinDistance2),
                                                        hn::Set(d, c.cohesionCoreDistance2),
                                                        hn::Set(d, c.cohesionCoreDistance),
-                                                       hn::Set(d, -2.0f * c.cohesionCoreScale),
-                                                       hn::Set(d, c.surfaceDensity)};
+                                                       hn::Set(d, -2.0f * c.cohesionCoreScale)};
                          if (block.wide)
                              forEachParticleInterleaved<CohesionParticle<true>>(pass, first, last);
                          else

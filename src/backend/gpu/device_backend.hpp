@@ -42,9 +42,11 @@ struct StageOutputs {
     // viscosity's stage applied to v with a step of 1 s (so that a stands
     // out against v when read back).
     std::vector<Vec3> viscosityVelocity;
-    // Given surface-tension settings: v + dt a, surface tension's stage at
-    // x* with the density pass's rho, with those settings' constants and
-    // solver.wall_adhesion (the other stages keep `params`' constants).
+    // Given surface-tension settings: the surface layer's weights s at x*
+    // with the density pass's rho, and v + dt a, surface tension's stage
+    // with them, with those settings' constants and solver.wall_adhesion
+    // (the other stages keep `params`' constants).
+    std::vector<float> surfaceLayer;
     std::vector<Vec3> surfaceTensionVelocity;
     // With the same settings: the curvature force's acceleration a at x*
     // (its four kernels on v = 0 with a step of 1 s).

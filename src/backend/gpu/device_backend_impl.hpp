@@ -639,6 +639,13 @@ class DeviceBackend final : public Backend {
         if (surfaceTension) {
             const SolverConstants cs = SolverConstants::from(*surfaceTension);
             copyVelocity(corrected_);
+            surfaceLayer_.resize(n);
+            forEachIndex(n, SurfaceLayerKernel{cs,
+                                               solids,
+                                               search,
+                                               p_.predicted.view(),
+                                               {raw(p_.density)},
+                                               {raw(surfaceLayer_)}});
             forEachIndex(n, SurfaceTensionKernel{cs,
                                                  surfaceTension->solver.wallAdhesion,
                                                  dt,
@@ -646,9 +653,11 @@ class DeviceBackend final : public Backend {
                                                  search,
                                                  p_.predicted.view(),
                                                  corrected_.view(),
-                                                 {raw(p_.density)},
+                                                 {raw(surfaceLayer_)},
                                                  {}});
             out.surfaceTensionVelocity = vectors(corrected_);
+            out.surfaceLayer.resize(n);
+            thrust::copy(surfaceLayer_.begin(), surfaceLayer_.end(), out.surfaceLayer.begin());
             // The curvature force alone, on v = 0 with a step of 1 s: its
             // acceleration a.
             resizeCurvature(n);
@@ -961,10 +970,17 @@ class DeviceBackend final : public Backend {
                                                   p_.velocity.view(),
                                                   {raw(p_.density)}});
     }
-    // Surface tension: cohesion and adhesion at x*, v += dt a; a coupled
-    // solid's pull is folded into its reaction (as the CPU's
-    // ReactionAccumulator records it, between confinement and the response).
+    // Surface tension: the surface layer's weights s of every particle,
+    // then cohesion and adhesion at x*, v += dt a; a coupled solid's pull is
+    // folded into its reaction (as the CPU's ReactionAccumulator records it,
+    // between confinement and the response).
     void surfaceTension(DeviceStep& s) {
+        forEachIndex(p_.size(), SurfaceLayerKernel{s.context.constants,
+                                                   s.solids,
+                                                   s.search,
+                                                   p_.predicted.view(),
+                                                   {raw(p_.density)},
+                                                   {raw(surfaceLayer_)}});
         forEachIndex(p_.size(), SurfaceTensionKernel{s.context.constants,
                                                      s.context.params.solver.wallAdhesion,
                                                      s.dt,
@@ -972,7 +988,7 @@ class DeviceBackend final : public Backend {
                                                      s.search,
                                                      p_.predicted.view(),
                                                      p_.velocity.view(),
-                                                     {raw(p_.density)},
+                                                     {raw(surfaceLayer_)},
                                                      slot(0)});
         foldReactions(1);
     }

@@ -394,6 +394,20 @@ struct PhysicalViscosityKernel {
 // pass's rho (reference::surfaceTensionOf), v_i += dt a_i. Reads only the
 // neighbours' x* and rho, so it adds to v in place. Records a coupled
 // solid's pull on the particle as the move dt^2 a (the CPU's reaction).
+// The surface layer's weights s (reference::surfaceLayerOf), every particle's
+// before the cohesion reads its neighbours'.
+struct SurfaceLayerKernel {
+    SolverConstants c;
+    SolidsArgument solids;
+    NeighborLists search;
+    Float3View predicted;
+    FloatView density, layer;
+    PBF_HD void operator()(std::uint32_t i) const {
+        layer.values[i] =
+            reference::surfaceLayerOf(c, solids.get(), search.of(i), predicted, density(i), i);
+    }
+};
+
 struct SurfaceTensionKernel {
     SolverConstants c;
     float wallAdhesion = 0.0f;
@@ -401,11 +415,11 @@ struct SurfaceTensionKernel {
     SolidsArgument solids;
     NeighborLists search;
     Float3View predicted, velocity;
-    FloatView density;
+    FloatView layer;
     ReactionSlot reactions;
     PBF_HD void operator()(std::uint32_t i) const {
         const reference::SurfaceTensionAcceleration a = reference::surfaceTensionOf(
-            c, wallAdhesion, solids.get(), search.of(i), predicted, density, i);
+            c, wallAdhesion, solids.get(), search.of(i), predicted, layer, i);
         velocity.set(i, velocity(i) + dt * a.total);
         if (reactions.active())
             reactions.record(i, a.solid, predicted(i), (dt * dt) * a.solidAcceleration);

@@ -21,6 +21,7 @@
     X(lambda, float, 1, Always)                        /* the constraint's multipliers */          \
     X(post, float, 3, PostProcess)                     /* v after XSPH and confinement (Jacobi) */ \
     X(vorticity, float, 3, Vorticity)                  /* omega */                                 \
+    X(surfaceLayer, float, 1, Cohesion)                /* the surface layer's weights s */         \
     X(colourGradient, float, 3, SurfaceTension)        /* the curvature force's g */               \
     X(bandNormal, float, 3, SurfaceTension)            /* its band normals nb */                   \
     X(curvature, float, 1, SurfaceTension)             /* its kappa */                             \
@@ -37,6 +38,7 @@ enum class StepArrayUse {
     Always,
     PostProcess,     // XSPH, vorticity confinement or the physical viscosity on
     Vorticity,       // vorticity confinement on
+    Cohesion,        // surface tension's cohesion on (fluid.surface_tension > 0)
     SurfaceTension,  // the curvature force on (fluid.surface_tension > 0)
     CoupledSolids,   // a solid that takes the fluid's reaction (a rigid body)
 };
@@ -49,6 +51,8 @@ inline bool stepArrayInUse(StepArrayUse use, const StepTerms& terms, bool couple
             return terms.velocityPostProcess();
         case StepArrayUse::Vorticity:
             return terms.vorticity;
+        case StepArrayUse::Cohesion:
+            return terms.cohesion;
         case StepArrayUse::SurfaceTension:
             return terms.curvature;
         case StepArrayUse::CoupledSolids:

@@ -304,6 +304,13 @@ class MpiBackend final : public Backend {
             Stage::ViscosityAndVorticity,
             {Stage::ExchangeVorticity, [this](SolverStep& s) { halo_.exchange(*s.vorticity); },
              whenOn(&StepTerms::vorticity)});
+        // Surface tension: the ghosts' surface-layer weights s from their
+        // owners before the cohesion reads them (a ghost's spread needs
+        // neighbours beyond the halo).
+        plan.insertAfter(
+            Stage::SurfaceLayer,
+            {Stage::ExchangeSurfaceLayer, [this](SolverStep& s) { halo_.exchange(s.surfaceLayer); },
+             whenOn(&StepTerms::cohesion)});
         // The curvature force: each field of the owned particles, then the
         // ghosts' from their owners before the next pass reads them (a
         // ghost's neighbours beyond the halo are missing: its own would be

@@ -19,6 +19,8 @@
 //   density and its gradient (1/m^4) to grad_i C_i, and carry no lambda.
 #pragma once
 
+#include <cmath>
+
 #include "pbf/core/config.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -224,6 +226,76 @@ PBF_HD inline Vec3 xsphTerm(const SolverConstants& c, float viscosity, const Vec
 // Whether a particle of this density is on the surface.
 PBF_HD inline bool onSurface(const SolverConstants& c, float density) {
     return density < c.surfaceDensity;
+}
+
+// ---- Strands: where a neck lets go ------------------------------------------
+//
+// A neck that thins to about two particles across stops thinning: its
+// particles sit within one spacing of each other, where the cohesion's kernel
+// is flat (no gain in coming closer), at rest density (the constraint does
+// not push), and the curvature force cannot resolve a surface two particles
+// across. The strand is force-free and holds its drops together for good;
+// the continuum would pinch it within its capillary time sqrt(rho d^3 / sigma)
+// (Eggers 1993). So a surface particle whose neighbourhood is narrower than
+// the kernel in two directions leaves the surface layer (s = 0): two such
+// particles no longer attract, while the drops at the strand's ends still
+// pull its last particles in. The measure is the middle eigenvalue of the
+// poly6-weighted covariance of the neighbours' offsets about their centroid
+// (self included; two small eigenvalues: a strand or a chain, one: a surface
+// or a sheet), against SolverConstants::strandSpread2. A particle within
+// reach of a wall or solid is held by it and never counts as a strand (else
+// a wetting film's edge would lose its cohesion and spread).
+
+// The neighbour spread's sums: weights, weighted offsets and their products.
+struct SpreadSums {
+    float weight = 0.0f;
+    Vec3 mean;
+    float xx = 0.0f, xy = 0.0f, xz = 0.0f, yy = 0.0f, yz = 0.0f, zz = 0.0f;
+};
+// The term of neighbour j (rij = x_i - x_j), or of the particle itself (rij = 0).
+PBF_HD inline void addSpreadTerm(const SolverConstants& c, const Vec3& rij, SpreadSums& s) {
+    const float w = c.poly6.value(lengthSquared(rij));
+    const Vec3 y = rij * w;
+    s.weight += w;
+    s.mean += y;
+    s.xx += y.x * rij.x;
+    s.xy += y.x * rij.y;
+    s.xz += y.x * rij.z;
+    s.yy += y.y * rij.y;
+    s.yz += y.y * rij.z;
+    s.zz += y.z * rij.z;
+}
+
+// The covariance's middle eigenvalue (m^2), in closed form (the
+// trigonometric solution of the characteristic cubic; Smith 1961).
+PBF_HD inline float middleSpread(const SpreadSums& s) {
+    if (!(s.weight > 0.0f)) return 0.0f;
+    const float inv = 1.0f / s.weight;
+    const Vec3 m = s.mean * inv;
+    const float a00 = s.xx * inv - m.x * m.x, a01 = s.xy * inv - m.x * m.y,
+                a02 = s.xz * inv - m.x * m.z, a11 = s.yy * inv - m.y * m.y,
+                a12 = s.yz * inv - m.y * m.z, a22 = s.zz * inv - m.z * m.z;
+    const float q = (a00 + a11 + a22) * (1.0f / 3.0f);
+    const float b00 = a00 - q, b11 = a11 - q, b22 = a22 - q;
+    const float p2 = b00 * b00 + b11 * b11 + b22 * b22 + 2.0f * (a01 * a01 + a02 * a02 + a12 * a12);
+    const float p = std::sqrt(p2 * (1.0f / 6.0f));
+    if (!(p > 1e-6f * q)) return q;  // isotropic: three equal eigenvalues
+    const float det = b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02) +
+                      a02 * (a01 * a12 - b11 * a02);
+    float r = det / (2.0f * p * p * p);
+    r = r < -1.0f ? -1.0f : (r > 1.0f ? 1.0f : r);
+    const float phi = std::acos(r) * (1.0f / 3.0f);
+    const float largest = q + 2.0f * p * std::cos(phi);
+    const float smallest = q + 2.0f * p * std::cos(phi + 2.0943951f);
+    return 3.0f * q - largest - smallest;
+}
+
+// s_i: 1 for a particle of the surface layer (onSurface, and not a strand
+// below the resolution unless a boundary holds it), 0 otherwise.
+PBF_HD inline float surfaceLayerWeight(const SolverConstants& c, float density,
+                                       const SpreadSums& spread, bool heldByBoundary) {
+    if (!onSurface(c, density)) return 0.0f;
+    return heldByBoundary || !(middleSpread(spread) < c.strandSpread2) ? 1.0f : 0.0f;
 }
 
 // The pair weight: (s_i + s_j) (h^2 - r^2)^2 for d < r < h (the pull, the

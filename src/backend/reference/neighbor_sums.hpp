@@ -169,9 +169,38 @@ PBF_HD Vec3 viscosityAccelerationOf(const SolverConstants& c, float nu, const Ne
     return normalisedViscosity(a, moment);
 }
 
+// The spread of particle i's neighbours at the positions x (SpreadSums,
+// self included).
+template <class Neighbors, class Positions>
+PBF_HD SpreadSums spreadOf(const SolverConstants& c, const Neighbors& neighbors, const Positions& x,
+                           std::uint32_t i) {
+    const Vec3 xi = x(i);
+    SpreadSums spread;
+    neighbors([&](std::uint32_t j) { addSpreadTerm(c, xi - x(j), spread); });
+    addSpreadTerm(c, Vec3{}, spread);
+    return spread;
+}
+
+// s_i, particle i's weight in the surface layer (surfaceLayerWeight), from
+// its density and its neighbours' spread at the positions x (the end-of-step
+// x*); a wall or solid within reach holds it (`solids` may be null).
+template <class Solids, class Neighbors, class Positions>
+PBF_HD float surfaceLayerOf(const SolverConstants& c, const Solids* solids,
+                            const Neighbors& neighbors, const Positions& x, float density,
+                            std::uint32_t i) {
+    if (!onSurface(c, density)) return 0.0f;
+    const Vec3 xi = x(i);
+    const SpreadSums spread = spreadOf(c, neighbors, x, i);
+    float boundarySum = 0.0f;
+    Vec3 boundaryGradient;
+    boundary::addWallContribution(c, xi, boundarySum, boundaryGradient);
+    boundary::addSolidContribution(c, solids, xi, boundarySum, boundaryGradient);
+    return surfaceLayerWeight(c, density, spread, boundarySum > 0.0f);
+}
+
 // Surface tension's acceleration of particle i at the positions x (the
-// end-of-step x*) with the densities rho: the cohesion of the surface
-// layer (cohesionTerm) plus the walls' and the nearest solid's adhesion
+// end-of-step x*) with the surface layer's weights s (surfaceLayerOf): the
+// cohesion of the surface layer (cohesionTerm) plus the walls' and the nearest solid's adhesion
 // (boundary::adhesionPull, adhesionAcceleration); `solidAcceleration` is the
 // solid's part (its reaction acts on a coupled solid) and `solid` which one
 // (boundary::kNoSolid: none). `solids` may be null.
@@ -180,17 +209,16 @@ struct SurfaceTensionAcceleration {
     Vec3 solidAcceleration;
     std::size_t solid = boundary::kNoSolid;
 };
-template <class Solids, class Neighbors, class Positions, class Densities>
+template <class Solids, class Neighbors, class Positions, class LayerWeights>
 PBF_HD SurfaceTensionAcceleration surfaceTensionOf(const SolverConstants& c, float wallAdhesion,
                                                    const Solids* solids, const Neighbors& neighbors,
-                                                   const Positions& x, const Densities& rho,
+                                                   const Positions& x, const LayerWeights& s,
                                                    std::uint32_t i) {
     const Vec3 xi = x(i);
-    const bool surfaceI = onSurface(c, rho(i));
+    const bool surfaceI = s(i) > 0.0f;
     Vec3 cohesion{};
-    neighbors([&](std::uint32_t j) {
-        cohesion += cohesionTerm(c, xi - x(j), surfaceI, onSurface(c, rho(j)));
-    });
+    neighbors(
+        [&](std::uint32_t j) { cohesion += cohesionTerm(c, xi - x(j), surfaceI, s(j) > 0.0f); });
     const boundary::AdhesionPull pull = boundary::adhesionPull(c, wallAdhesion, solids, xi);
     SurfaceTensionAcceleration a;
     a.solidAcceleration = adhesionAcceleration(c, pull.solid);

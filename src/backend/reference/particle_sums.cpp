@@ -70,11 +70,21 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                                index(i));
 }
 
+float middleSpread(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                   std::size_t i) {
+    return middleSpread(spreadOf(c, ListNeighbors{neighbors}, Array{x}, index(i)));
+}
+
+float surfaceLayer(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
+                   float density, NeighborIndices neighbors, std::size_t i) {
+    return surfaceLayerOf(c, solids, ListNeighbors{neighbors}, Array{x}, density, index(i));
+}
+
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
                                           const SolidSet* solids, std::span<const Vec3> x,
-                                          std::span<const float> rho, NeighborIndices neighbors,
+                                          std::span<const float> s, NeighborIndices neighbors,
                                           std::size_t i) {
-    return surfaceTensionOf(c, wallAdhesion, solids, ListNeighbors{neighbors}, Array{x}, Array{rho},
+    return surfaceTensionOf(c, wallAdhesion, solids, ListNeighbors{neighbors}, Array{x}, Array{s},
                             index(i));
 }
 

@@ -51,11 +51,22 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        std::span<const Vec3> omega, std::span<const float> rho,
                        NeighborIndices neighbors, std::size_t i);
 
+// The middle eigenvalue of the spread of particle i's neighbours (m^2;
+// spreadOf, middleSpread): below SolverConstants::strandSpread2 a strand.
+float middleSpread(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                   std::size_t i);
+
+// s_i, particle i's weight in the surface layer at the positions x (the
+// end-of-step x*) with its density rho_i (surfaceLayerOf); `solids` may be null.
+float surfaceLayer(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,
+                   float density, NeighborIndices neighbors, std::size_t i);
+
 // Surface tension's acceleration of particle i at the positions x (the
-// end-of-step x*) with the densities rho (surfaceTensionOf); `solids` may be null.
+// end-of-step x*) with the surface layer's weights s (surfaceTensionOf);
+// `solids` may be null.
 SurfaceTensionAcceleration surfaceTension(const SolverConstants& c, float wallAdhesion,
                                           const SolidSet* solids, std::span<const Vec3> x,
-                                          std::span<const float> rho, NeighborIndices neighbors,
+                                          std::span<const float> s, NeighborIndices neighbors,
                                           std::size_t i);
 
 // The curvature force's four passes at the positions x (neighbor_sums.hpp):

@@ -11,7 +11,8 @@
 //   viscosityAndVorticity    XSPH viscosity; vorticity omega_i            (l. 22)
 //   physicalViscosity        v += dt nu lap v (fluid.kinematic_viscosity)
 //   vorticityConfinement     v += dt f_vorticity                          (l. 22)
-//   surfaceTension           cohesion of the surface layer and adhesion, v += dt a
+//   surfaceTension           the surface layer's weights s, then its cohesion and
+//                            adhesion, v += dt a
 //   colourGradient, bandNormal, curvature, curvatureForce
 //                            the curvature force: g_i, nb_i, kappa_i, then
 //                            v += dt a of sigma kappa on the surface band
@@ -266,11 +267,17 @@ void ReferenceBackend::vorticityConfinement(const Step& s) {
 // Surface tension's cohesion and adhesion at x*, added to the velocity like
 // confinement: the force at the new positions drives the next step
 // (symplectic Euler).
+// The surface layer's weights s of every particle first (each reads its
+// neighbours' x*, the cohesion the neighbours' s).
 void ReferenceBackend::surfaceTension(const Step& s) {
+    surfaceLayer_.resize(position_.size());
+    for (std::size_t i = 0; i < position_.size(); ++i)
+        surfaceLayer_[i] =
+            reference::surfaceLayer(s.c, s.solids, predicted_, density_[i], grid_.neighbors(i), i);
     for (std::size_t i = 0; i < position_.size(); ++i) {
         const reference::SurfaceTensionAcceleration a =
             reference::surfaceTension(s.c, s.params.solver.wallAdhesion, s.solids, predicted_,
-                                      density_, grid_.neighbors(i), i);
+                                      surfaceLayer_, grid_.neighbors(i), i);
         velocity_[i] += s.dt * a.total;
         if (s.reactions)
             s.reactions->add(i, a.solid, predicted_[i], (s.dt * s.dt) * a.solidAcceleration);
@@ -331,7 +338,8 @@ std::size_t ReferenceBackend::bufferBytes() const {
                           viscosityAcceleration_.capacity() + colourGradient_.capacity() +
                           bandNormal_.capacity();
     return sizeof(Vec3) * vectors +
-           sizeof(float) * (density_.capacity() + lambda_.capacity() + curvature_.capacity());
+           sizeof(float) * (density_.capacity() + lambda_.capacity() + curvature_.capacity() +
+                            surfaceLayer_.capacity());
 }
 
 BackendDiagnostics ReferenceBackend::diagnostics() const {

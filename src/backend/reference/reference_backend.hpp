@@ -72,6 +72,7 @@ class ReferenceBackend final : public HostBackend {
     std::vector<Vec3> predictedVelocity_;      // v + dt g, before the iterations
     std::vector<Vec3> solveAcceleration_;      // warm start: the last substep's, then this one's
     std::vector<Vec3> viscosityAcceleration_;  // physical viscosity: nu lap v of this substep
+    std::vector<float> surfaceLayer_;          // s_i, the surface layer's weights (cohesion)
     std::vector<Vec3> colourGradient_;         // g_i of the curvature force
     std::vector<Vec3> bandNormal_;             // nb_i
     std::vector<float> curvature_;             // kappa_i

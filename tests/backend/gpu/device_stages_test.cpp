@@ -81,6 +81,7 @@ TEST_P(DeviceVsReference, AgreeWithinTheDerivedBounds) {
     results.xsphVelocity = out.xsphVelocity;
     results.vorticity = out.vorticity;
     results.surfaceTensionVelocity = out.surfaceTensionVelocity;
+    results.surfaceLayer = out.surfaceLayer;
     ASSERT_EQ(results.surfaceTensionVelocity.size(), x.size());
     EXPECT_TRUE(out.viscosityVelocity.empty());  // fluid.kinematic_viscosity is off
     expectAgreementWithReference(cloud, c, results, "device",

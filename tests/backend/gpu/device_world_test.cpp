@@ -522,7 +522,7 @@ TEST(DeviceWorld, TheMemoryTableCountsTheArraysAllocatedWithEveryTermOn) {
     SimulationParams plain = s;
     plain.fluid.surfaceTension = 0.0f;
     EXPECT_EQ(gpu::particleArrayBytes(s, true) - gpu::particleArrayBytes(plain, true),
-              7 * sizeof(float));  // g, nb, kappa
+              8 * sizeof(float));  // s, g, nb, kappa
 }
 
 TEST(DeviceWorld, ASceneTooLargeForTheDeviceIsRefusedNamingIt) {

@@ -125,14 +125,16 @@ namespace {
 // ---- The reference, on the same (reordered) particles ------------------------------
 
 struct ReferenceResults {
-    std::vector<float> density, lambda;
+    std::vector<float> density, lambda, surfaceLayer;
     std::vector<Vec3> dp, velocity, xsphVelocity, vorticity, surfaceTensionVelocity;
 };
 
-// `testedDensity`: the densities surface tension is given (both get the same).
+// `testedDensity`: the densities the surface layer is found from, and
+// `testedLayer` the layer the cohesion is given (both get the same).
 ReferenceResults runReference(const Cloud& cloud, const SolverConstants& c,
                               const std::vector<Vec3>& x, const std::vector<Vec3>& xStar,
-                              const std::vector<float>& testedDensity) {
+                              const std::vector<float>& testedDensity,
+                              const std::vector<float>& testedLayer) {
     const std::size_t n = xStar.size();
     reference::NeighborGrid grid(cloud.params.domain, c.h);
     grid.build(xStar);
@@ -155,9 +157,13 @@ ReferenceResults runReference(const Cloud& cloud, const SolverConstants& c,
             reference::vorticity(c, xStar, r.velocity, r.density, grid.neighbors(i), i));
     }
     const SolverConstants cs = surfaceTensionConstants(cloud);
+    if (testedLayer.empty()) return r;
+    for (std::size_t i = 0; i < n; ++i)
+        r.surfaceLayer.push_back(reference::surfaceLayer(cs, cloud.solids.get(), xStar,
+                                                         testedDensity[i], grid.neighbors(i), i));
     for (std::size_t i = 0; i < n; ++i) {
         const reference::SurfaceTensionAcceleration a = reference::surfaceTension(
-            cs, kStageWallAdhesion, cloud.solids.get(), xStar, testedDensity, grid.neighbors(i), i);
+            cs, kStageWallAdhesion, cloud.solids.get(), xStar, testedLayer, grid.neighbors(i), i);
         r.surfaceTensionVelocity.push_back(r.velocity[i] + kDt * a.total);
     }
     return r;
@@ -192,7 +198,7 @@ Bound pairTerm(const Pair& pair, Bound term) {
 }
 
 Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector<Vec3>& x,
-                 const std::vector<Vec3>& xStar, const std::vector<float>& testedDensity) {
+                 const std::vector<Vec3>& xStar, const std::vector<float>& testedLayer) {
     const std::size_t n = xStar.size();
     const double h = c.h, h2 = c.poly6.h2;
     const double epsRsqrt = 7.0 * kU;
@@ -328,10 +334,11 @@ Model buildModel(const Cloud& cloud, const SolverConstants& c, const std::vector
     const double rc2 = cs.cohesionCoreDistance2, rc = cs.cohesionCoreDistance;
     const double coreScale = cs.cohesionCoreScale;
     for (std::size_t i = 0; i < n; ++i) {
-        const int surfaceI = reference::onSurface(cs, testedDensity[i]) ? 1 : 0;
+        if (testedLayer.empty()) break;
+        const int surfaceI = testedLayer[i] > 0.0f ? 1 : 0;
         std::vector<Bound> terms[3];
         for (const Pair& p : model.pairs[i]) {
-            const int pairs = surfaceI + (reference::onSurface(cs, testedDensity[p.j]) ? 1 : 0);
+            const int pairs = surfaceI + (testedLayer[p.j] > 0.0f ? 1 : 0);
             const double edge = 4.0 * (epsR + gamma(3));
             const Bound r2{p.r2, gamma(3) * p.r2};
             // The pull beyond d (a jump there: a pair at the edge adds its whole term).
@@ -428,8 +435,9 @@ void expectAgreementWithReference(const Cloud& cloud, const SolverConstants& c,
     const std::size_t n = results.xStar.size();
     const std::vector<Vec3>& x = results.x;
     const std::vector<Vec3>& xStar = results.xStar;
-    const ReferenceResults ref = runReference(cloud, c, x, xStar, results.density);
-    const Model model = buildModel(cloud, c, x, xStar, results.density);
+    const ReferenceResults ref =
+        runReference(cloud, c, x, xStar, results.density, results.surfaceLayer);
+    const Model model = buildModel(cloud, c, x, xStar, results.surfaceLayer);
     const bool withSurfaceTension = !results.surfaceTensionVelocity.empty();
 
     Agreement density, lambda, dp, velocity, xsph, vorticity, surface;
@@ -495,6 +503,22 @@ void expectAgreementWithReference(const Cloud& cloud, const SolverConstants& c,
     if (withSurfaceTension) {
         report(cloud.name, implementation, "surface", surface);
         const SolverConstants cs = surfaceTensionConstants(cloud);
+        // The surface layer: the same weights, except for a particle whose
+        // spread lies within 1e-3 (relative) of the strand threshold: the
+        // sums' order may round it to either side.
+        reference::NeighborGrid grid(cloud.params.domain, c.h);
+        grid.build(xStar);
+        std::size_t strands = 0, differing = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (reference::onSurface(cs, results.density[i]) && ref.surfaceLayer[i] == 0.0f)
+                ++strands;
+            if (results.surfaceLayer[i] == ref.surfaceLayer[i]) continue;
+            const float spread = reference::middleSpread(cs, xStar, grid.neighbors(i), i);
+            if (std::fabs(spread - cs.strandSpread2) > 1e-3f * cs.strandSpread2) ++differing;
+        }
+        std::printf("  %-9s surface layer: %zu strand particles, %zu differing\n",
+                    cloud.name.c_str(), strands, differing);
+        EXPECT_EQ(differing, 0u) << cloud.name << ": surface layer weights differ";
         const auto surfaceParticles =
             std::count_if(results.density.begin(), results.density.end(),
                           [&](float rho) { return reference::onSurface(cs, rho); });

@@ -134,6 +134,7 @@ struct StageResults {
     std::vector<Vec3> x, xStar;  // the inputs, in the implementation's order
     std::vector<float> density, lambda;
     std::vector<Vec3> corrected, velocity, xsphVelocity, vorticity;
+    std::vector<float> surfaceLayer;  // s, the surface layer's weights (with surface tension)
     std::vector<Vec3> surfaceTensionVelocity;
 };
 

@@ -87,12 +87,17 @@ StageResults runSimdStages(const Cloud& cloud, const SolverConstants& c,
         const SolverConstants cs = surfaceTensionConstants(cloud);
         const SolverContext stContext{stParams, cs, cloud.solids.get()};
         SolverStep st(stContext, search, p, kDt, nullptr);
-        std::vector<PackedPoint> positionDensity(n);
+        std::vector<PackedPoint> positionLayer(n);
+        std::vector<float> layer(n);
         st.predicted = predicted.data();
-        st.positionDensity = positionDensity.data();
+        st.positionLayer = positionLayer.data();
+        st.surfaceLayer = layer.data();
         for (std::size_t i = 0; i < n; ++i)
             p.velocity.set(i, {velocityDensity[i].x, velocityDensity[i].y, velocityDensity[i].z});
-        stages::packPositionDensities(st, 0, n);
+        inUnevenRanges(
+            n, [&](std::size_t b, std::size_t e) { stages::computeSurfaceLayer(st, b, e); });
+        out.surfaceLayer = layer;
+        stages::packPositionLayers(st, 0, n);
         inUnevenRanges(
             n, [&](std::size_t b, std::size_t e) { stages::applySurfaceTension(st, b, e); });
         for (std::size_t i = 0; i < n; ++i) out.surfaceTensionVelocity.push_back(p.velocity.get(i));
