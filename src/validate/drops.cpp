@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 
@@ -109,6 +110,18 @@ std::size_t clusterCount(const std::vector<Vec3>& x, float link) {
     std::size_t count = 0;
     for (std::size_t i = 0; i < x.size(); ++i) count += roots[i] == i;
     return count;
+}
+
+std::vector<std::size_t> clusterSizes(const std::vector<Vec3>& x, float link) {
+    if (x.empty()) return {};
+    const std::vector<std::uint32_t> roots = clusterRoots(x, link);
+    std::vector<std::size_t> size(x.size(), 0);
+    for (const std::uint32_t r : roots) ++size[r];
+    std::vector<std::size_t> sizes;
+    for (const std::size_t n : size)
+        if (n > 0) sizes.push_back(n);
+    std::sort(sizes.begin(), sizes.end(), std::greater<>());
+    return sizes;
 }
 
 std::vector<Vec3> largestCluster(const std::vector<Vec3>& x, float link) {

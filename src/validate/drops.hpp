@@ -36,6 +36,8 @@ Vec3 centroid(const std::vector<Vec3>& x);
 
 // Connected components of the particles linked closer than `link` (m).
 std::size_t clusterCount(const std::vector<Vec3>& x, float link);
+// The sizes of those components, largest first.
+std::vector<std::size_t> clusterSizes(const std::vector<Vec3>& x, float link);
 // The positions of the largest of those components (the first, on a tie).
 std::vector<Vec3> largestCluster(const std::vector<Vec3>& x, float link);
 // Each particle's distance to its nearest neighbour (`reach` where none is

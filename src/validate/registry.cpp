@@ -19,13 +19,14 @@ Case openChannelCase();
 Case standingWaveCase();
 Case waveMakerCase();
 Case sloshingCase();
+Case pinchOffCase();
 
 const std::vector<Case>& cases() {
-    static const std::vector<Case> all{martinMoyceCase(),  hydrostaticCase(),  freeFallCase(),
-                                       momentumCase(),     taylorGreenCase(),  archimedesCase(),
-                                       heaveCase(),        rayleighDropCase(), cubeToSphereCase(),
-                                       laplaceCase(),      wettingCase(),      openChannelCase(),
-                                       standingWaveCase(), waveMakerCase(),    sloshingCase()};
+    static const std::vector<Case> all{
+        martinMoyceCase(),  hydrostaticCase(),  freeFallCase(),  momentumCase(),
+        taylorGreenCase(),  archimedesCase(),   heaveCase(),     rayleighDropCase(),
+        cubeToSphereCase(), laplaceCase(),      wettingCase(),   pinchOffCase(),
+        openChannelCase(),  standingWaveCase(), waveMakerCase(), sloshingCase()};
     return all;
 }
 
