@@ -290,12 +290,9 @@ PBF_HD inline float middleSpread(const SpreadSums& s) {
     return 3.0f * q - largest - smallest;
 }
 
-// s_i: 1 for a particle of the surface layer (onSurface, and not a strand
-// below the resolution unless a boundary holds it), 0 otherwise.
-PBF_HD inline float surfaceLayerWeight(const SolverConstants& c, float density,
-                                       const SpreadSums& spread, bool heldByBoundary) {
-    if (!onSurface(c, density)) return 0.0f;
-    return heldByBoundary || !(middleSpread(spread) < c.strandSpread2) ? 1.0f : 0.0f;
+// Whether a neighbourhood of this spread is a strand below the resolution.
+PBF_HD inline bool inStrand(const SolverConstants& c, const SpreadSums& spread) {
+    return middleSpread(spread) < c.strandSpread2;
 }
 
 // The pair weight: (s_i + s_j) (h^2 - r^2)^2 for d < r < h (the pull, the

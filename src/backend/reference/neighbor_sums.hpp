@@ -181,21 +181,23 @@ PBF_HD SpreadSums spreadOf(const SolverConstants& c, const Neighbors& neighbors,
     return spread;
 }
 
-// s_i, particle i's weight in the surface layer (surfaceLayerWeight), from
-// its density and its neighbours' spread at the positions x (the end-of-step
-// x*); a wall or solid within reach holds it (`solids` may be null).
+// s_i, particle i's weight in the surface layer: 1 on the surface
+// (onSurface) unless its neighbours' spread at the positions x (the
+// end-of-step x*) makes it a strand (inStrand) that no wall or solid within
+// reach holds; 0 otherwise. `solids` may be null; the boundary is looked up
+// for strands only.
 template <class Solids, class Neighbors, class Positions>
 PBF_HD float surfaceLayerOf(const SolverConstants& c, const Solids* solids,
                             const Neighbors& neighbors, const Positions& x, float density,
                             std::uint32_t i) {
     if (!onSurface(c, density)) return 0.0f;
+    if (!inStrand(c, spreadOf(c, neighbors, x, i))) return 1.0f;
     const Vec3 xi = x(i);
-    const SpreadSums spread = spreadOf(c, neighbors, x, i);
     float boundarySum = 0.0f;
     Vec3 boundaryGradient;
     boundary::addWallContribution(c, xi, boundarySum, boundaryGradient);
     boundary::addSolidContribution(c, solids, xi, boundarySum, boundaryGradient);
-    return surfaceLayerWeight(c, density, spread, boundarySum > 0.0f);
+    return boundarySum > 0.0f ? 1.0f : 0.0f;
 }
 
 // Surface tension's acceleration of particle i at the positions x (the
