@@ -88,6 +88,12 @@ constexpr double kCohesionPull = 0.45;        // the cohesion's pull, of the lat
 // surface layer 0.31 or more. A uniform disc of radius a reads a^2 / 4: the
 // threshold is a strand 1.6 spacings across.
 constexpr double kStrandSpread = 0.16;
+// ... and a strand is long: the largest eigenvalue over this many d^2. A
+// chain's inner particles read 0.46, a thinning neck's 0.30-0.43 (10 % and
+// 90 %); a pair 0.9 d apart 0.21, the pieces of 2-9 particles that a
+// breaking stream sheds 0.20 (90 % below 0.24). Those are drops below the
+// resolution, not strands: they keep their cohesion and stay together.
+constexpr double kStrandLength = 0.26;
 
 // The cohesion potential's two lattice sums (equations.hpp, "Surface
 // tension"), for U(r) = -k m^2 W(max(r, d)) on the rest lattice (cubic,
@@ -206,6 +212,7 @@ SolverConstants SolverConstants::from(const SimulationParams& params) {
         const CohesionLattice lattice = cohesionLattice(c.poly6, d);
         c.surfaceDensity = static_cast<float>((1.0 - kSurfaceDeficit) * c.restDensity);
         c.strandSpread2 = static_cast<float>(kStrandSpread * d * d);
+        c.strandLength2 = static_cast<float>(kStrandLength * d * d);
         // The surface energy is epsilon times the density the surface layer
         // misses: splitting the lattice costs epsilon m topLayerDeficit per
         // area and side, so sigma = kCohesionCalibration epsilon m deficit.

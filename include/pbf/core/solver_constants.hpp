@@ -70,10 +70,12 @@ struct SolverConstants {
     float surfaceDensity = 0.0f;         // kg/m^3: 0.98 rho0
     // A surface particle whose neighbourhood is narrower than the kernel in
     // two directions (a strand about two particles across, or a chain: the
-    // middle eigenvalue of its neighbours' spread below strandSpread2) is
-    // below the resolution and leaves the surface layer, so that a neck
-    // thinner than the particles lets go (equations.hpp, "Strands").
+    // middle eigenvalue of its neighbours' spread below strandSpread2, the
+    // largest above strandLength2) is below the resolution and leaves the
+    // surface layer, so that a neck thinner than the particles lets go
+    // (equations.hpp, "Strands").
     float strandSpread2 = 0.0f;  // m^2: 0.16 d^2
+    float strandLength2 = 0.0f;  // m^2: 0.26 d^2
     // Adhesion: a boundary pulls as the rest lattice beyond it would through
     // the pair potential U(r) = -k m^2 W_poly6(max(r, d)) whose work of
     // cohesion on the lattice is 2 sigma: a = adhesion adhesionScale

@@ -242,7 +242,9 @@ PBF_HD inline bool onSurface(const SolverConstants& c, float density) {
 // pull its last particles in. The measure is the middle eigenvalue of the
 // poly6-weighted covariance of the neighbours' offsets about their centroid
 // (self included; two small eigenvalues: a strand or a chain, one: a surface
-// or a sheet), against SolverConstants::strandSpread2. A particle within
+// or a sheet), against SolverConstants::strandSpread2, with the largest
+// above SolverConstants::strandLength2 (a strand is long; a clump of a few
+// particles is small every way and is not one). A particle within
 // reach of a wall or solid is held by it and never counts as a strand (else
 // a wetting film's edge would lose its cohesion and spread).
 
@@ -266,10 +268,14 @@ PBF_HD inline void addSpreadTerm(const SolverConstants& c, const Vec3& rij, Spre
     s.zz += y.z * rij.z;
 }
 
-// The covariance's middle eigenvalue (m^2), in closed form (the
+// The covariance's middle and largest eigenvalues (m^2), in closed form (the
 // trigonometric solution of the characteristic cubic; Smith 1961).
-PBF_HD inline float middleSpread(const SpreadSums& s) {
-    if (!(s.weight > 0.0f)) return 0.0f;
+struct SpreadAxes {
+    float middle = 0.0f;
+    float largest = 0.0f;
+};
+PBF_HD inline SpreadAxes spreadAxes(const SpreadSums& s) {
+    if (!(s.weight > 0.0f)) return {};
     const float inv = 1.0f / s.weight;
     const Vec3 m = s.mean * inv;
     const float a00 = s.xx * inv - m.x * m.x, a01 = s.xy * inv - m.x * m.y,
@@ -279,7 +285,7 @@ PBF_HD inline float middleSpread(const SpreadSums& s) {
     const float b00 = a00 - q, b11 = a11 - q, b22 = a22 - q;
     const float p2 = b00 * b00 + b11 * b11 + b22 * b22 + 2.0f * (a01 * a01 + a02 * a02 + a12 * a12);
     const float p = std::sqrt(p2 * (1.0f / 6.0f));
-    if (!(p > 1e-6f * q)) return q;  // isotropic: three equal eigenvalues
+    if (!(p > 1e-6f * q)) return {q, q};  // isotropic: three equal eigenvalues
     const float det = b00 * (b11 * b22 - a12 * a12) - a01 * (a01 * b22 - a12 * a02) +
                       a02 * (a01 * a12 - b11 * a02);
     float r = det / (2.0f * p * p * p);
@@ -287,12 +293,16 @@ PBF_HD inline float middleSpread(const SpreadSums& s) {
     const float phi = std::acos(r) * (1.0f / 3.0f);
     const float largest = q + 2.0f * p * std::cos(phi);
     const float smallest = q + 2.0f * p * std::cos(phi + 2.0943951f);
-    return 3.0f * q - largest - smallest;
+    return {3.0f * q - largest - smallest, largest};
 }
 
-// Whether a neighbourhood of this spread is a strand below the resolution.
+// Whether a neighbourhood of this spread is a strand below the resolution:
+// narrow in two directions and long in the third. A clump of a few
+// particles (a satellite drop, a pair) is small in all three: it keeps its
+// cohesion, holds together and can rejoin the water it meets.
 PBF_HD inline bool inStrand(const SolverConstants& c, const SpreadSums& spread) {
-    return middleSpread(spread) < c.strandSpread2;
+    const SpreadAxes axes = spreadAxes(spread);
+    return axes.middle < c.strandSpread2 && axes.largest > c.strandLength2;
 }
 
 // The pair weight: (s_i + s_j) (h^2 - r^2)^2 for d < r < h (the pull, the

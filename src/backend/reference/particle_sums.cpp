@@ -70,9 +70,9 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                                index(i));
 }
 
-float middleSpread(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
-                   std::size_t i) {
-    return middleSpread(spreadOf(c, ListNeighbors{neighbors}, Array{x}, index(i)));
+SpreadAxes spreadAxes(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                      std::size_t i) {
+    return spreadAxes(spreadOf(c, ListNeighbors{neighbors}, Array{x}, index(i)));
 }
 
 float surfaceLayer(const SolverConstants& c, const SolidSet* solids, std::span<const Vec3> x,

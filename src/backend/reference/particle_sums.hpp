@@ -51,10 +51,11 @@ Vec3 vorticityGradient(const SolverConstants& c, std::span<const Vec3> x,
                        std::span<const Vec3> omega, std::span<const float> rho,
                        NeighborIndices neighbors, std::size_t i);
 
-// The middle eigenvalue of the spread of particle i's neighbours (m^2;
-// spreadOf, middleSpread): below SolverConstants::strandSpread2 a strand.
-float middleSpread(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
-                   std::size_t i);
+// The middle and largest eigenvalues of the spread of particle i's
+// neighbours (m^2; spreadOf, spreadAxes): a strand has the middle below
+// SolverConstants::strandSpread2 and the largest above strandLength2.
+SpreadAxes spreadAxes(const SolverConstants& c, std::span<const Vec3> x, NeighborIndices neighbors,
+                      std::size_t i);
 
 // s_i, particle i's weight in the surface layer at the positions x (the
 // end-of-step x*) with its density rho_i (surfaceLayerOf); `solids` may be null.

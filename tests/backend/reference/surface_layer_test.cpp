@@ -60,6 +60,7 @@ TEST(SurfaceLayer, TheThresholdIsAStrandOfAboutOneAndAHalfSpacings) {
     const SolverConstants c = waterConstants();
     const float d = spacing(c);
     EXPECT_FLOAT_EQ(c.strandSpread2, 0.16f * d * d);
+    EXPECT_FLOAT_EQ(c.strandLength2, 0.26f * d * d);
     EXPECT_EQ(SolverConstants::from(SimulationParams{}).strandSpread2, 0.0f);
 }
 
@@ -82,18 +83,30 @@ TEST(SurfaceLayer, ARodThreeAcrossIsNotAStrand) {
     EXPECT_EQ(strandCount(c, block(spacing(c), 16, 3, 3)), 0u);
 }
 
+// A chain's particles are a strand but for its two ends: each sees one
+// neighbour, a pair (below).
 TEST(SurfaceLayer, AChainIsAStrand) {
     const SolverConstants c = waterConstants();
     const std::vector<Vec3> chain = block(spacing(c), 12, 1, 1);
-    EXPECT_EQ(strandCount(c, chain), chain.size());
+    EXPECT_EQ(strandCount(c, chain), chain.size() - 2);
+}
+
+// Small every way: a drop below the resolution, not a strand. A pair, and a
+// clump of eight packed as a satellite drop packs them.
+TEST(SurfaceLayer, AClumpOfAFewParticlesIsNotAStrand) {
+    const SolverConstants c = waterConstants();
+    EXPECT_EQ(strandCount(c, block(0.9f * spacing(c), 2, 1, 1)), 0u);
+    EXPECT_EQ(strandCount(c, block(0.8f * spacing(c), 2, 2, 2)), 0u);
 }
 
 // Two particles across, packed to 0.7 spacings as a neck that stopped
-// thinning is (its particles sit inside one another's flat kernel top).
+// thinning is (its particles sit inside one another's flat kernel top); all
+// but its end slabs (four particles at each end: short of the kernel along
+// it, a clump).
 TEST(SurfaceLayer, ANeckTwoParticlesAcrossIsAStrand) {
     const SolverConstants c = waterConstants();
     const std::vector<Vec3> neck = block(0.7f * spacing(c), 20, 2, 2);
-    EXPECT_EQ(strandCount(c, neck), neck.size());
+    EXPECT_EQ(strandCount(c, neck), neck.size() - 8);
 }
 
 // The same chain half a spacing from the domain's floor: the wall holds it.
@@ -103,7 +116,7 @@ TEST(SurfaceLayer, AWallWithinReachHoldsAStrand) {
     const std::vector<Vec3> chain = block(d, 12, 1, 1, {0.0f, kDomain.min.y + 0.5f * d, 0.0f});
     EXPECT_EQ(strandCount(c, chain), 0u);
     const std::vector<Vec3> away = block(d, 12, 1, 1, {0.0f, 0.0f, 0.0f});
-    EXPECT_EQ(strandCount(c, away), away.size());
+    EXPECT_EQ(strandCount(c, away), away.size() - 2);
 }
 
 // A particle inside the water (density at rest) is never in the layer.
