@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "backend/outlets.hpp"
 #include "backend/reactions.hpp"
 #include "pbf/backend/backend.hpp"
 
@@ -16,6 +17,9 @@ class HostBackend : public Backend {
     void append(std::span<const Vec3> positions, std::span<const Vec3> velocities,
                 float density) override;
     std::size_t removeInside(std::span<const OutletRegion> outlets) override;
+    void driveInside(std::span<const InletBuffer> buffers) override {
+        detail::driveInside(store_, buffers);
+    }
     const StageTimes& lastStageTimes() const override { return times_; }
     std::span<const SolidReaction> lastReactions() const override { return lastReactions_; }
 

@@ -1,5 +1,5 @@
-// The particles that stay when outlets remove water (private header):
-// shared by the backends whose particles live in host memory.
+// Outlets and inlet buffers on particles in host memory (private header):
+// shared by the backends whose particles live there.
 #pragma once
 
 #include <cstdint>
@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "pbf/core/inlet_buffer.hpp"
 #include "pbf/core/outlet_region.hpp"
 #include "pbf/core/particles.hpp"
 
@@ -30,6 +31,16 @@ inline std::optional<std::vector<std::uint32_t>> particlesOutside(
     for (std::size_t i = first + 1; i < n; ++i)
         if (!insideAnyOutlet(outlets, p.position.get(i))) kept.push_back(std::uint32_t(i));
     return kept;
+}
+
+// Gives the particles in the inlet buffers their velocity (Backend::driveInside).
+inline void driveInside(ParticleStore& p, std::span<const InletBuffer> buffers) {
+    if (buffers.empty()) return;
+    const auto count = static_cast<std::uint32_t>(buffers.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        Vec3 v;
+        if (bufferVelocity(buffers.data(), count, p.position.get(i), v)) p.velocity.set(i, v);
+    }
 }
 
 }  // namespace pbf::detail

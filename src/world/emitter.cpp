@@ -66,6 +66,39 @@ float flowSpeed(const EmitterDescription& e, float particleRadius) {
     return float(double(e.flowRate) / area);
 }
 
+bool Emitter::open(double time) const {
+    const EmitterDescription& e = description_;
+    return time >= double(e.start) && time < double(e.end) &&
+           (e.maxParticles == 0 || emitted_ < e.maxParticles);
+}
+
+InletBuffer Emitter::buffer(float reach) const {
+    const EmitterDescription& e = description_;
+    InletBuffer b;
+    b.origin = e.position;
+    b.axis = e.direction;
+    b.behind = particleRadius_;
+    b.ahead = reach;
+    b.velocity = velocity();
+    if (e.width > 0.0f && e.height > 0.0f) {
+        // The disc's own axes (emitterDisc): its extent along each, plus r.
+        Vec3 up{0, 1, 0};
+        Vec3 across = cross(up, b.axis);
+        if (length(across) < 1e-6f) across = {1, 0, 0};
+        b.across = across * (1.0f / length(across));
+        b.rise = cross(b.axis, b.across);
+        for (const Vec3& offset : disc_) {
+            b.halfWidth = std::max(b.halfWidth, std::fabs(dot(offset, b.across)));
+            b.halfHeight = std::max(b.halfHeight, std::fabs(dot(offset, b.rise)));
+        }
+        b.halfWidth += particleRadius_;
+        b.halfHeight += particleRadius_;
+    } else {
+        b.radius = e.radius + particleRadius_;
+    }
+    return b;
+}
+
 double Emitter::rate() const {
     return double(disc_.size()) * description_.speed / spacing_;
 }

@@ -199,6 +199,7 @@ FrameResult World::stepFrame() {
         if (result.error) return result;
         double elapsed = 0.0;
         std::vector<Vec3> emitted;
+        std::vector<InletBuffer> buffers;
         // The bodies' contact world is rebuilt from their states once per
         // frame (bodies/contact_world.hpp); its time counts as `bodies`.
         const auto beginStart = std::chrono::steady_clock::now();
@@ -235,6 +236,13 @@ FrameResult World::stepFrame() {
             const auto placeEnd = std::chrono::steady_clock::now();
             backend_->step(context(), static_cast<float>(dt));
             report.stageMs += backend_->lastStageTimes();
+            // The water in front of an open nozzle leaves at the stream's
+            // velocity (pbf/core/inlet_buffer.hpp).
+            buffers.clear();
+            for (const Emitter& emitter : emitters_)
+                if (emitter.open(stepStart))
+                    buffers.push_back(emitter.buffer(settings_.kernelRadius()));
+            if (!buffers.empty()) backend_->driveInside(buffers);
             // Water that reached an outlet leaves before anything reads the
             // state (the guard, the bodies' next substep, the frame's files).
             if (!outlets_.empty()) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "pbf/backend/statistics.hpp"
+#include "pbf/core/inlet_buffer.hpp"
 #include "pbf/core/outlet_region.hpp"
 #include "pbf/core/params.hpp"
 #include "pbf/core/particles.hpp"
@@ -137,6 +138,10 @@ class Backend {
     // Returns how many were removed (on all ranks: collective for a
     // distributed backend). Nothing happens without outlets.
     virtual std::size_t removeInside(std::span<const OutletRegion> outlets) = 0;
+    // Gives the particles in each inlet buffer its velocity (the first
+    // buffer that holds one; pbf/core/inlet_buffer.hpp); positions and the
+    // others stay. Each rank drives its own particles.
+    virtual void driveInside(std::span<const InletBuffer> buffers) = 0;
     // Advances every particle by dt seconds.
     virtual void step(const SolverContext& context, float dt) = 0;
     virtual const StageTimes& lastStageTimes() const = 0;

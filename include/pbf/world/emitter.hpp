@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "pbf/core/inlet_buffer.hpp"
 #include "pbf/geometry/solids.hpp"
 #include "pbf/world/world_def.hpp"
 
@@ -35,6 +36,12 @@ class Emitter {
     // particles' positions to `positions`; they all move at velocity().
     void emit(double time, double dt, const SolidSet* solids, std::vector<Vec3>& positions);
     Vec3 velocity() const { return description_.direction * description_.speed; }
+    // Whether the nozzle pours at `time` (within its window, budget left).
+    bool open(double time) const;
+    // The water in front of the nozzle that moves at the stream's velocity
+    // (pbf/core/inlet_buffer.hpp): across its opening, from one particle
+    // radius behind it to one kernel radius `reach` ahead.
+    InletBuffer buffer(float reach) const;
 
     std::size_t emitted() const { return emitted_; }
     std::size_t discSize() const { return disc_.size(); }

@@ -454,6 +454,20 @@ class DeviceBackend final : public Backend {
         return n - kept;
     }
 
+    void driveInside(std::span<const InletBuffer> buffers) override {
+        const std::size_t n = p_.size();
+        if (buffers.empty() || n == 0) return;
+        ThreadScope threads;
+        // Uploaded when they change (they do when a nozzle opens or closes).
+        if (!std::equal(buffers.begin(), buffers.end(), buffersOnDevice_.begin(),
+                        buffersOnDevice_.end())) {
+            buffersOnDevice_.assign(buffers.begin(), buffers.end());
+            buffers_.assign(buffers.begin(), buffers.end());
+        }
+        forEachIndex(n, DriveInBuffers{view(p_.position), view(p_.velocity), raw(buffers_),
+                                       static_cast<std::uint32_t>(buffers.size())});
+    }
+
     void download(ParticleStore& out) const override {
         ThreadScope threads;
         out = ParticleStore();
@@ -1170,6 +1184,8 @@ class DeviceBackend final : public Backend {
     DeviceArray<std::uint32_t> order_, orderAlt_;
     DeviceArray<OutletRegion> outlets_;            // removeInside's regions
     std::vector<OutletRegion> outletsOnDevice_;  // what outlets_ holds
+    DeviceArray<InletBuffer> buffers_;           // driveInside's buffers
+    std::vector<InletBuffer> buffersOnDevice_;   // what buffers_ holds
     DeviceArray<std::uint8_t> sortTemp_;
     DeviceArray<std::uint64_t> cellKey_, blockOfCell_, blockKey_, blockMask_;
     DeviceArray<std::uint32_t> cellStart_, particleCell_, cellBlock_, blockFirstCell_;

@@ -25,6 +25,7 @@
 #include "core/iteration_control.hpp"
 #include "core/particle_checks.hpp"
 #include "pbf/core/config.hpp"
+#include "pbf/core/inlet_buffer.hpp"
 #include "pbf/core/outlet_region.hpp"
 #include "pbf/core/solver_constants.hpp"
 #include "pbf/core/vec3.hpp"
@@ -572,6 +573,19 @@ struct OutsideOutlets {
     std::uint32_t count = 0;
     PBF_HD bool operator()(std::uint32_t i) const {
         return !insideAnyOutlet(outlets, count, position(i));
+    }
+};
+
+// Gives particle i its inlet buffer's velocity when one holds it
+// (Backend::driveInside).
+struct DriveInBuffers {
+    Float3View position;
+    Float3View velocity;
+    const InletBuffer* buffers = nullptr;
+    std::uint32_t count = 0;
+    PBF_HD void operator()(std::uint32_t i) const {
+        Vec3 v;
+        if (bufferVelocity(buffers, count, position(i), v)) velocity.set(i, v);
     }
 };
 

@@ -87,6 +87,10 @@ class MpiBackend final : public Backend {
         return std::size_t(removed);
     }
 
+    void driveInside(std::span<const InletBuffer> buffers) override {
+        detail::driveInside(store_, buffers);
+    }
+
     void step(const SolverContext& context, float dt) override {
         reactions_.reset(store_.size(), context.solids);
         solver_.step(context, store_, dt, times_, reactions_.active() ? &reactions_ : nullptr);
