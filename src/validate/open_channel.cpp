@@ -43,13 +43,15 @@ WorldDef channel(float radius) {
     weir.kind = SolidDescription::Kind::Box;
     weir.box = {{1.0f, 0, 0}, {1.06f, kWeirHeight, kWidth}};
     def.solids.push_back(weir);
-    // The inlet pours over the channel's whole width from above its
-    // upstream end (a head tank's overflow: the new particles land in air).
+    // The inlet pours down over the channel's whole width above its
+    // upstream end (the new particles land in air). Its stream falls onto
+    // the pool: a stream along the channel would bring its momentum, and
+    // the pool before the weir would not be still.
     EmitterDescription inlet;
-    inlet.position = {0.03f, 0.27f, 0.5f * kWidth};
-    inlet.direction = {1, 0, 0};
-    inlet.width = kWidth;
-    inlet.height = 0.06f;
+    inlet.position = {0.08f, 0.27f, 0.5f * kWidth};
+    inlet.direction = {0, -1, 0};
+    inlet.width = 0.1f;      // along the channel (a vertical stream's width is along x)
+    inlet.height = kWidth;   // across it
     inlet.flowRate = kFlowRate;
     def.emitters.push_back(inlet);
     OutletDescription outlet;
