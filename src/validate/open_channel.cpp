@@ -50,8 +50,8 @@ WorldDef channel(float radius) {
     EmitterDescription inlet;
     inlet.position = {0.08f, 0.27f, 0.5f * kWidth};
     inlet.direction = {0, -1, 0};
-    inlet.width = 0.1f;      // along the channel (a vertical stream's width is along x)
-    inlet.height = kWidth;   // across it
+    inlet.width = 0.1f;     // along the channel (a vertical stream's width is along x)
+    inlet.height = kWidth;  // across it
     inlet.flowRate = kFlowRate;
     def.emitters.push_back(inlet);
     OutletDescription outlet;
