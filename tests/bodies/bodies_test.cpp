@@ -308,8 +308,15 @@ TEST(Bodies, CaptureAndRestoreContinuesBitIdentically) {
 }
 
 // The shipped scenes with bodies: no particle inside a body (or any solid)
-// in any frame of the whole run.
+// in any frame of the whole run. Under the sanitizers (ten times slower:
+// 430-540 s for the whole runs) the first second of each, where the bodies
+// enter the water and meet; the release pass runs them whole.
 TEST(Bodies, ShippedScenesKeepEveryParticleOutOfTheBodies) {
+#ifdef PBF_SANITIZED
+    constexpr int kMostFrames = 30;
+#else
+    constexpr int kMostFrames = 1 << 30;
+#endif
     int scenes = 0;
     for (const auto& entry : std::filesystem::directory_iterator(PBF_SCENES_DIR)) {
         if (entry.path().extension() != ".json") continue;
@@ -318,14 +325,15 @@ TEST(Bodies, ShippedScenesKeepEveryParticleOutOfTheBodies) {
         ++scenes;
         World world(scene);
         std::size_t worst = 0;
-        for (int frame = 0; frame < scene.output.frames; ++frame) {
+        const int frames = std::min(scene.output.frames, kMostFrames);
+        for (int frame = 0; frame < frames; ++frame) {
             const FrameResult r = world.stepFrame();
             ASSERT_TRUE(r.ok()) << entry.path() << ": " << r.error->message;
             worst = std::max(worst, r.report.state.insideSolid);
             ASSERT_EQ(r.report.state.escaped, 0u) << entry.path() << " frame " << frame + 1;
         }
         std::printf("  %s: %d frames, %zu particles, %zu bodies, most inside a body: %zu\n",
-                    scene.name.c_str(), scene.output.frames, world.particleCount(),
+                    scene.name.c_str(), frames, world.particleCount(),
                     world.bodyCount(), worst);
         EXPECT_EQ(worst, 0u) << entry.path();
     }
