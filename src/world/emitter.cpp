@@ -16,6 +16,20 @@ std::vector<float> rowOffsets(float extent, float spacing) {
     return offsets;
 }
 
+// A rectangular nozzle's axes: `across` level and across the stream, `rise`
+// across it in the stream's vertical plane (along x and z for a vertical
+// stream).
+struct RectangleAxes {
+    Vec3 across, rise;
+};
+RectangleAxes rectangleAxes(const Vec3& axis) {
+    const Vec3 up{0, 1, 0};
+    Vec3 across = cross(up, axis);
+    if (length(across) < 1e-6f) across = {1, 0, 0};  // a vertical stream
+    across *= 1.0f / length(across);
+    return {across, cross(axis, across)};
+}
+
 }  // namespace
 
 std::vector<Vec3> emitterDisc(const EmitterDescription& e, float particleRadius) {
@@ -23,15 +37,11 @@ std::vector<Vec3> emitterDisc(const EmitterDescription& e, float particleRadius)
     const Vec3 axis = e.direction * (1.0f / length(e.direction));
     if (e.width > 0.0f && e.height > 0.0f) {
         // Width level and across the stream; height across it, upward.
-        const Vec3 up{0, 1, 0};
-        Vec3 across = cross(up, axis);
-        if (length(across) < 1e-6f) across = {1, 0, 0};  // a vertical stream
-        across *= 1.0f / length(across);
-        const Vec3 rise = cross(axis, across);
+        const RectangleAxes r = rectangleAxes(axis);
         std::vector<Vec3> rectangle;
         for (const float a : rowOffsets(e.height, spacing))
             for (const float b : rowOffsets(e.width, spacing))
-                rectangle.push_back(across * b + rise * a);
+                rectangle.push_back(r.across * b + r.rise * a);
         return rectangle;
     }
     const Vec3 helper = std::fabs(axis.x) < 0.9f ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
@@ -82,11 +92,9 @@ InletBuffer Emitter::buffer(float reach) const {
     b.velocity = velocity();
     if (e.width > 0.0f && e.height > 0.0f) {
         // The disc's own axes (emitterDisc): its extent along each, plus r.
-        Vec3 up{0, 1, 0};
-        Vec3 across = cross(up, b.axis);
-        if (length(across) < 1e-6f) across = {1, 0, 0};
-        b.across = across * (1.0f / length(across));
-        b.rise = cross(b.axis, b.across);
+        const RectangleAxes r = rectangleAxes(b.axis);
+        b.across = r.across;
+        b.rise = r.rise;
         for (const Vec3& offset : disc_) {
             b.halfWidth = std::max(b.halfWidth, std::fabs(dot(offset, b.across)));
             b.halfHeight = std::max(b.halfHeight, std::fabs(dot(offset, b.rise)));
