@@ -112,6 +112,19 @@ void forEachIndex(std::size_t n, const Kernel& kernel) {
     if (n > 0) thrust::for_each_n(thrust::device, indices(), n, kernel);
 }
 
+// A small host array (outlets, inlet buffers) kept on the device, uploaded
+// only when its values change.
+template <class T>
+struct UploadedOnChange {
+    DeviceArray<T> device;
+    std::vector<T> host;  // what `device` holds
+    void upload(std::span<const T> values) {
+        if (std::equal(values.begin(), values.end(), host.begin(), host.end())) return;
+        host.assign(values.begin(), values.end());
+        device.assign(values.begin(), values.end());
+    }
+};
+
 template <class T>
 std::size_t bytesOf(const DeviceArray<T>& a) {
     return a.capacity() * sizeof(T);
@@ -435,13 +448,8 @@ class DeviceBackend final : public Backend {
         const std::size_t n = p_.size();
         if (outlets.empty() || n == 0) return 0;
         ThreadScope threads;
-        // Uploaded when they change (a scene's outlets never do).
-        if (!std::equal(outlets.begin(), outlets.end(), outletsOnDevice_.begin(),
-                        outletsOnDevice_.end())) {
-            outletsOnDevice_.assign(outlets.begin(), outlets.end());
-            outlets_.assign(outlets.begin(), outlets.end());
-        }
-        const OutsideOutlets outside{view(p_.position), raw(outlets_),
+        outlets_.upload(outlets);  // a scene's outlets never change
+        const OutsideOutlets outside{view(p_.position), raw(outlets_.device),
                                      static_cast<std::uint32_t>(outlets.size())};
         const auto kept = static_cast<std::size_t>(thrust::count_if(
             thrust::device(scratch_), indices(), indices(std::uint32_t(n)), outside));
@@ -458,13 +466,8 @@ class DeviceBackend final : public Backend {
         const std::size_t n = p_.size();
         if (buffers.empty() || n == 0) return;
         ThreadScope threads;
-        // Uploaded when they change (they do when a nozzle opens or closes).
-        if (!std::equal(buffers.begin(), buffers.end(), buffersOnDevice_.begin(),
-                        buffersOnDevice_.end())) {
-            buffersOnDevice_.assign(buffers.begin(), buffers.end());
-            buffers_.assign(buffers.begin(), buffers.end());
-        }
-        forEachIndex(n, DriveInBuffers{view(p_.position), view(p_.velocity), raw(buffers_),
+        buffers_.upload(buffers);  // changes when a nozzle opens or closes
+        forEachIndex(n, DriveInBuffers{view(p_.position), view(p_.velocity), raw(buffers_.device),
                                        static_cast<std::uint32_t>(buffers.size())});
     }
 
@@ -1182,10 +1185,8 @@ class DeviceBackend final : public Backend {
     // second buffers and scratch) and the sparse grid (sortByCell).
     DeviceArray<std::uint64_t> keys_, keysAlt_;
     DeviceArray<std::uint32_t> order_, orderAlt_;
-    DeviceArray<OutletRegion> outlets_;            // removeInside's regions
-    std::vector<OutletRegion> outletsOnDevice_;  // what outlets_ holds
-    DeviceArray<InletBuffer> buffers_;           // driveInside's buffers
-    std::vector<InletBuffer> buffersOnDevice_;   // what buffers_ holds
+    UploadedOnChange<OutletRegion> outlets_;  // removeInside's regions
+    UploadedOnChange<InletBuffer> buffers_;   // driveInside's buffers
     DeviceArray<std::uint8_t> sortTemp_;
     DeviceArray<std::uint64_t> cellKey_, blockOfCell_, blockKey_, blockMask_;
     DeviceArray<std::uint32_t> cellStart_, particleCell_, cellBlock_, blockFirstCell_;
