@@ -41,10 +41,10 @@ void RadixSort::sort(std::uint64_t* keys, std::size_t n, int bits, std::uint32_t
         keyScratch = keys_.data();
         indexScratch = index_.data();
     }
-    // One chunk per thread (at least 64k keys each): each chunk's digits are
+    // One chunk per thread (at least 16k keys each): each chunk's digits are
     // counted, then scattered to their places in chunk order (stable).
     const std::size_t chunks =
-        std::clamp<std::size_t>(n / 65536, 1, static_cast<std::size_t>(std::max(1, threadCount())));
+        std::clamp<std::size_t>(n / 16384, 1, static_cast<std::size_t>(std::max(1, threadCount())));
     const std::size_t chunkSize = (n + chunks - 1) / chunks;
     counts_.resize(chunks * kDigits);
 
