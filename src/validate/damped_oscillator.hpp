@@ -30,4 +30,11 @@ struct DampedOscillatorFit {
 // within 0.5 and 1 of it). `t` and `y` have the same length, at least 6.
 DampedOscillatorFit fitDampedOscillator(const std::vector<double>& t, const std::vector<double>& y);
 
+// y = e + A cos(w t) + B sin(w t) at a given w by least squares (the fit
+// above with sigma = 0): the response to a sinusoidal forcing.
+struct HarmonicFit {
+    double offset = 0.0, cosine = 0.0, sine = 0.0;  // e, A, B
+};
+HarmonicFit fitHarmonic(const std::vector<double>& t, const std::vector<double>& y, double w);
+
 }  // namespace pbf::validation::detail

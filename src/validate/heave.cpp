@@ -17,12 +17,19 @@
 // T = 0.437 s (mu = 1/2 would give 0.449 s, the low-frequency 0.83 0.496 s).
 // Hulme's radiation damping there, b = 0.24 of (2/3) pi rho a^3 w, is a
 // damping ratio of 0.085.
+//
+// Beside the free motion the case drives the sphere up and down at that
+// frequency (a forced-oscillation test, the way Hulme's coefficients are
+// defined) and reports the water's force on it in phase with the
+// displacement and with the velocity against Hulme's: what the period and
+// the damping of the free motion come from.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "pbf/world/world.hpp"
@@ -38,6 +45,11 @@ constexpr float kPush = 0.01f;       // m: held this much deeper than floating, 
 constexpr double kSettle = 0.5;      // s: the water settles around the held sphere
 constexpr double kFollow = 1.3;      // s: followed after the release (about three periods)
 constexpr double kClearance = 0.15;  // m: the level is read this far from the sphere
+constexpr float kDrive = 0.005f;     // m: amplitude of the forced motion
+constexpr int kDrivenPeriods = 4;    // the first is the start's transient, the rest fitted
+// Hulme (1982), table 1, heave: the radiation damping at K a = 1.05,
+// b / ((2/3) pi rho a^3 w).
+constexpr double kHulmeDamping = 0.24;
 
 // Hulme (1982), table 1, heave: K a and the added mass / displaced mass.
 constexpr std::array<std::array<double, 2>, 17> kHulmeAddedMass{{{0.0, 0.8310},
@@ -131,20 +143,26 @@ void fitPeriodRange(Bobbing& b) {
     }
 }
 
-Bobbing bob(float radius, const Options& options) {
+// The tank and the sphere, floating (its centre at the still water's top).
+WorldDef tank(float radius) {
     WorldDef def;
     def.name = "heave";
     def.simulation.domain = {{0, 0, 0}, {0.5f, 0.35f, 0.5f}};
     def.simulation.particleRadius = radius;
     def.simulation.solver.maxTimeStep = float(detail::restingTimeStep(radius));
     def.fluidBlocks.push_back({{{0, 0, 0}, {0.5f, 0.2f, 0.5f}}, {}});
-    def.fps = 250.0f;  // samples every 4 ms: ~110 per period
     RigidBodyDescription sphere;
     sphere.shape.kind = SolidDescription::Kind::Sphere;
     sphere.shape.center = {0.25f, 0.2f, 0.25f};
     sphere.shape.radius = kRadius;
     sphere.density = 500.0f;
     def.rigidBodies.push_back(sphere);
+    return def;
+}
+
+Bobbing bob(float radius, const Options& options) {
+    WorldDef def = tank(radius);
+    def.fps = 250.0f;  // samples every 4 ms: ~110 per period
     World world(def);
     Bobbing b;
     b.radius = radius;
@@ -179,6 +197,57 @@ Bobbing bob(float radius, const Options& options) {
     return b;
 }
 
+// The water's force on the sphere driven z = Z sin(w t) about floating:
+// F - F0 = -K Z sin(w t) - B w Z cos(w t), K = rho0 g A_w - A w^2 (the
+// waterplane's restoring force less the added mass's), B the damping.
+struct Driven {
+    double stiffness = 0.0;  // K, N/m
+    double damping = 0.0;    // B, kg/s
+};
+
+Driven drive(float radius, double omega, const Options& options) {
+    WorldDef def = tank(radius);
+    // One substep per frame: the sphere's state is set at each frame's
+    // start, and the water sees it where that state puts it at the
+    // substep's end (RigidBodies::placeForFluid), so the motion is the
+    // prescribed one whatever the water's force does to the body.
+    def.fps = float(1.0001 / detail::restingTimeStep(radius));
+    World world(def);
+    RigidBodyState held = world.bodyStates()[0];
+    const auto place = [&](double y, double vy) {
+        held.position.y = float(y);
+        held.velocity = {0.0f, float(vy), 0.0f};
+        held.angularVelocity = {};
+        world.setBodyState(0, held);
+    };
+    while (world.time() < kSettle - 1e-9) {
+        place(detail::waterLevel(world, kClearance), 0.0);
+        detail::step(world);
+    }
+    const double rest = detail::waterLevel(world, kClearance);
+    const double start = world.time(), period = 2.0 * std::numbers::pi / omega;
+    const double dt = world.frameDuration();
+    std::vector<double> t, force;
+    while (world.time() < start + kDrivenPeriods * period - 1e-9) {
+        const double s = world.time() - start;
+        const double z0 = kDrive * std::sin(omega * s), z1 = kDrive * std::sin(omega * (s + dt));
+        place(rest + z0, (z1 - z0) / dt);
+        if (detail::step(world).substeps != 1)
+            throw std::runtime_error("heave: the driven sphere needs one substep per frame");
+        if (s + dt > period) {
+            t.push_back(s + dt);  // the substep's end, where the water saw the sphere
+            force.push_back(double(world.bodyLoads()[0].force.y));
+        }
+    }
+    const detail::HarmonicFit f = detail::fitHarmonic(t, force, omega);
+    const Driven d{-f.sine / kDrive, -f.cosine / (omega * kDrive)};
+    if (options.progress)
+        options.progress(fmt::format("heave: radius {} m, driven ±{:g} mm at {:.2f} rad/s: "
+                                     "in-phase stiffness {:.1f} N/m, damping {:.2f} kg/s",
+                                     radius, 1e3 * kDrive, omega, d.stiffness, d.damping));
+    return d;
+}
+
 CaseResult run(const Options& options) {
     CaseResult result;
     result.name = "heave";
@@ -189,6 +258,14 @@ CaseResult run(const Options& options) {
     for (float r : radii) runs.push_back(bob(r, options));
     const double mu = naturalAddedMass();
     const double estimate = period(mu);
+    // Hulme's coefficients at the estimate's frequency, and the simulated.
+    const double omega = 2.0 * std::numbers::pi / estimate;
+    const double mass = 2.0 / 3.0 * std::numbers::pi * std::pow(double(kRadius), 3) * 1000.0;
+    const double hulmeStiffness =
+        1000.0 * kG * std::numbers::pi * double(kRadius) * double(kRadius) - mu * mass * omega * omega;
+    const double hulmeDamping = kHulmeDamping * mass * omega;
+    std::vector<Driven> driven;
+    for (float r : radii) driven.push_back(drive(r, omega, options));
     constexpr double tolerance = 0.10;
 
     plot::Panel motion{
@@ -241,6 +318,12 @@ CaseResult run(const Options& options) {
             1e3 * b.radius, b.particles, b.period, b.periodError, b.periodLow, b.periodHigh,
             b.dampedPeriod, b.damping, b.fitRms, b.residualCorrelation,
             100.0 * (b.period / estimate - 1.0));
+    std::string drivenRows;
+    for (std::size_t k = 0; k < runs.size(); ++k)
+        drivenRows += fmt::format("| {:g} | {:.1f} ({:.2f} of Hulme's) | {:.2f} ({:.1f} times) |\n",
+                                  1e3 * runs[k].radius, driven[k].stiffness,
+                                  driven[k].stiffness / hulmeStiffness, driven[k].damping,
+                                  driven[k].damping / hulmeDamping);
     result.notes = fmt::format(
         "A sphere of radius {} m and density 500 kg/m^3 (floating half submerged) in a 0.5 x 0.5 "
         "m tank filled 0.2 m deep is held {:.0f} cm deeper than floating while the water settles "
@@ -257,8 +340,17 @@ CaseResult run(const Options& options) {
         "checked.\n\n"
         "| r (mm) | particles | natural period (s) | shortened records (s) | damped period (s) | "
         "damping ratio | fit RMS (m) | residual r1 | against the estimate |\n"
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n{}",
-        kRadius, 100.0 * kPush, kSettle, kFollow, kClearance, estimate, mu, period(0.5), rows);
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n{}\n"
+        "Driven (reported, not checked): the sphere moved ±{:g} mm about floating at the "
+        "estimate's frequency ({:.2f} rad/s) for {} periods after the same settling, one "
+        "substep per frame; F0 + a sin(w t) + b cos(w t) fitted to the water's vertical force "
+        "over the last {}. In phase with the displacement: the stiffness K = -a / Z = rho0 g A_w "
+        "- A w^2 (Hulme: {:.1f} N/m); with the velocity: the damping B = -b / (w Z) (Hulme's "
+        "radiation damping: {:.2f} kg/s).\n\n"
+        "| r (mm) | stiffness K (N/m) | damping B (kg/s) |\n| --- | --- | --- |\n{}",
+        kRadius, 100.0 * kPush, kSettle, kFollow, kClearance, estimate, mu, period(0.5), rows,
+        1e3 * kDrive, omega, kDrivenPeriods, kDrivenPeriods - 1, hulmeStiffness, hulmeDamping,
+        drivenRows);
     return result;
 }
 
