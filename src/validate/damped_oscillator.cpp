@@ -149,7 +149,8 @@ DampedOscillatorFit fitDampedOscillator(const std::vector<double>& t,
 
 HarmonicFit fitHarmonic(const std::vector<double>& t, const std::vector<double>& y, double w) {
     if (t.size() != y.size() || t.size() < 3)
-        throw std::invalid_argument("fitHarmonic: needs at least 3 samples, as many times as values");
+        throw std::invalid_argument(
+            "fitHarmonic: needs at least 3 samples, as many times as values");
     const std::array<double, 3> c = linearFit(t, y, w, 0.0).coefficients;
     return {c[0], c[1], c[2]};
 }

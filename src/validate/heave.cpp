@@ -242,9 +242,10 @@ Driven drive(float radius, double omega, const Options& options) {
     const detail::HarmonicFit f = detail::fitHarmonic(t, force, omega);
     const Driven d{-f.sine / kDrive, -f.cosine / (omega * kDrive)};
     if (options.progress)
-        options.progress(fmt::format("heave: radius {} m, driven ±{:g} mm at {:.2f} rad/s: "
-                                     "in-phase stiffness {:.1f} N/m, damping {:.2f} kg/s",
-                                     radius, 1e3 * kDrive, omega, d.stiffness, d.damping));
+        options.progress(
+            fmt::format("heave: radius {} m, driven ±{:g} mm at {:.2f} rad/s: "
+                        "in-phase stiffness {:.1f} N/m, damping {:.2f} kg/s",
+                        radius, 1e3 * kDrive, omega, d.stiffness, d.damping));
     return d;
 }
 
@@ -262,7 +263,8 @@ CaseResult run(const Options& options) {
     const double omega = 2.0 * std::numbers::pi / estimate;
     const double mass = 2.0 / 3.0 * std::numbers::pi * std::pow(double(kRadius), 3) * 1000.0;
     const double hulmeStiffness =
-        1000.0 * kG * std::numbers::pi * double(kRadius) * double(kRadius) - mu * mass * omega * omega;
+        1000.0 * kG * std::numbers::pi * double(kRadius) * double(kRadius) -
+        mu * mass * omega * omega;
     const double hulmeDamping = kHulmeDamping * mass * omega;
     std::vector<Driven> driven;
     for (float r : radii) driven.push_back(drive(r, omega, options));
