@@ -24,7 +24,8 @@ DeviceInfo deviceInfo(BackendKind kind) {
             break;
         case BackendKind::Mpi:
 #if defined(PBF_HAVE_MPI)
-            s = {true, true, "the cpu solver on one slab per MPI rank (mpirun -np N)", 0};
+            s = {true, true,
+                 "the cpu solver on one range of the cell key per MPI rank (mpirun -np N)", 0};
 #else
             s = {false, false, "this pbf was built without MPI", 0};
 #endif

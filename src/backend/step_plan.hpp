@@ -29,7 +29,7 @@ enum class Stage {
     Predict,        // v += dt g; x* = x + dt v
     WarmStart,      // x* += w dt^2 a (solver.warm_start)
     CollideSolids,  // swept collision of x -> x* with the solids
-    Distribute,     // MPI: migration to the slab owners, ghosts added
+    Distribute,     // MPI: migration to the key ranges' owners, ghosts added
     SortByCell,     // cell of each particle, counting sort
     Reorder,        // every particle field permuted into cell order
     NeighborLists,  // distance tests, neighbour lists

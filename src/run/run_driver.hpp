@@ -47,7 +47,7 @@ class RunDriver {
     const OutputParams& output_;
     std::filesystem::path dir_;
     // Rank 0 writes the files; in a distributed run the other ranks compute
-    // their slabs and take part in the gathers (include/pbf/core/distributed.hpp).
+    // their key ranges and take part in the gathers (include/pbf/core/distributed.hpp).
     bool writer_;
     World world_;
     // Totals for summary.json; statsCsv holds every row so far (the file is

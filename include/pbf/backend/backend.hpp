@@ -84,7 +84,7 @@ struct SolverContext {
 enum class BackendKind {
     Cpu,        // SIMD CPU solver (Highway), OpenMP, deterministic: the default
     Reference,  // scalar, one function per equation of the paper: the test oracle
-    Mpi,        // the CPU solver on one slab of the grid per MPI rank (builds with PBF_MPI)
+    Mpi,        // the CPU solver on one range of the cell key per MPI rank (builds with PBF_MPI)
     Cuda,       // the GPU backend on an NVIDIA GPU (builds with PBF_CUDA, nvcc)
     CudaOnCpu,  // the GPU backend's same source on the CPU (Thrust's OpenMP system)
 };

@@ -5,8 +5,8 @@
 // initialize() first. Every rank builds the same World (solids, emitters
 // and rigid bodies are replicated: they are small and every rank's fluid
 // touches them) with the distributed backend (BackendKind::Mpi), which
-// gives each rank a slab of the sorted grid's planes and exchanges the
-// particles at the slabs' borders. Files are written by rank 0.
+// gives each rank a range of the cell key (a compact region of space) and
+// exchanges the particles at the ranges' borders. Files are written by rank 0.
 //
 // In a build without MPI (PBF_MPI off) or a process not started by an MPI
 // launcher, there is one rank: rank() is 0, size() is 1, and nothing here

@@ -6,7 +6,7 @@
 // keys lie in [cut(r), cut(r + 1)): the particles whose x* (after prediction
 // and the swept collision, the positions the sort uses) lie there. Ranges
 // follow the Morton curve over the key's bricks, so each is a compact region
-// (no more ranks than slabs along one axis). Every step:
+// (not a slab of whole planes: no limit of one rank per plane). Every step:
 //
 //   distribute  when the ranks' particle counts differ by more than 5 %, the
 //               cuts move to balance them (a sparse histogram of the key's
