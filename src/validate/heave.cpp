@@ -40,6 +40,7 @@ namespace pbf::validation {
 namespace {
 
 constexpr double kG = 9.81;
+constexpr double kRho0 = 1000.0;  // kg/m^3: the water (the default rest density)
 constexpr float kRadius = 0.05f;     // a, m
 constexpr float kPush = 0.01f;       // m: held this much deeper than floating, then released
 constexpr double kSettle = 0.5;      // s: the water settles around the held sphere
@@ -261,9 +262,9 @@ CaseResult run(const Options& options) {
     const double estimate = period(mu);
     // Hulme's coefficients at the estimate's frequency, and the simulated.
     const double omega = 2.0 * std::numbers::pi / estimate;
-    const double mass = 2.0 / 3.0 * std::numbers::pi * std::pow(double(kRadius), 3) * 1000.0;
+    const double mass = 2.0 / 3.0 * std::numbers::pi * std::pow(double(kRadius), 3) * kRho0;
     const double hulmeStiffness =
-        1000.0 * kG * std::numbers::pi * double(kRadius) * double(kRadius) -
+        kRho0 * kG * std::numbers::pi * double(kRadius) * double(kRadius) -
         mu * mass * omega * omega;
     const double hulmeDamping = kHulmeDamping * mass * omega;
     std::vector<Driven> driven;
