@@ -161,6 +161,20 @@ WorldDef tank(float radius) {
     return def;
 }
 
+// The sphere held `below` under floating (its centre at the water level),
+// at rest, while the water settles around it for kSettle; its state then.
+RigidBodyState settleHeld(World& world, float below) {
+    RigidBodyState held = world.bodyStates()[0];
+    while (world.time() < kSettle - 1e-9) {
+        held.position.y = float(detail::waterLevel(world, kClearance)) - below;
+        held.velocity = {};
+        held.angularVelocity = {};
+        world.setBodyState(0, held);
+        detail::step(world);
+    }
+    return held;
+}
+
 Bobbing bob(float radius, const Options& options) {
     WorldDef def = tank(radius);
     def.fps = 250.0f;  // samples every 4 ms: ~110 per period
@@ -168,17 +182,7 @@ Bobbing bob(float radius, const Options& options) {
     Bobbing b;
     b.radius = radius;
     b.particles = world.particleCount();
-    // Held kPush below floating (its centre at the water level) while the
-    // water settles around it.
-    RigidBodyState held = world.bodyStates()[0];
-    while (world.time() < kSettle - 1e-9) {
-        const double level = detail::waterLevel(world, kClearance);
-        held.position.y = float(level) - kPush;
-        held.velocity = {};
-        held.angularVelocity = {};
-        world.setBodyState(0, held);
-        detail::step(world);
-    }
+    RigidBodyState held = settleHeld(world, kPush);
     held.position.y = float(detail::waterLevel(world, kClearance)) - kPush;
     world.setBodyState(0, held);
     const double release = world.time();
@@ -214,17 +218,12 @@ Driven drive(float radius, double omega, const Options& options) {
     // prescribed one whatever the water's force does to the body.
     def.fps = float(1.0001 / detail::restingTimeStep(radius));
     World world(def);
-    RigidBodyState held = world.bodyStates()[0];
+    RigidBodyState held = settleHeld(world, 0.0f);
     const auto place = [&](double y, double vy) {
         held.position.y = float(y);
         held.velocity = {0.0f, float(vy), 0.0f};
-        held.angularVelocity = {};
         world.setBodyState(0, held);
     };
-    while (world.time() < kSettle - 1e-9) {
-        place(detail::waterLevel(world, kClearance), 0.0);
-        detail::step(world);
-    }
     const double rest = detail::waterLevel(world, kClearance);
     const double start = world.time(), period = 2.0 * std::numbers::pi / omega;
     const double dt = world.frameDuration();

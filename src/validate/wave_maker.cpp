@@ -142,36 +142,38 @@ Window window(const std::vector<double>& t, const std::vector<double>& y) {
     return w;
 }
 
-// Twice the amplitude of the component at frequency 1/T over the record.
-double firstHarmonicHeight(const std::vector<double>& t, const std::vector<double>& y) {
-    const double omega = 2.0 * std::numbers::pi / kPeriod;
-    const Window w = window(t, y);
-    if (w.count == 0) return std::nan("");
-    const double mean = w.mean, n = double(w.count);
+// sum (y - mean) exp(-i w t) over the record's samples.
+std::complex<double> component(const std::vector<double>& t, const std::vector<double>& y,
+                               double mean, double omega) {
     std::complex<double> sum;
     for (std::size_t k = 0; k < t.size(); ++k)
         if (inRecord(t[k]))
             sum += (y[k] - mean) * std::exp(std::complex<double>(0.0, -omega * t[k]));
-    return 2.0 * 2.0 * std::abs(sum) / n;
+    return sum;
 }
 
-// The period of the record's strongest component: the peak of |sum (y -
-// mean) exp(-i w t)| over the record, scanned over periods of 0.5-2 times
-// the paddle's in steps of 1 ms. The mean interval between up-crossings of
-// the mean (two or three in the record) moves with the waves' shape and
-// noise: it read 0.932-0.993 s where the spectral peak reads 0.991-1.011 s.
+// Twice the amplitude of the component at frequency 1/T over the record.
+double firstHarmonicHeight(const std::vector<double>& t, const std::vector<double>& y) {
+    const Window w = window(t, y);
+    if (w.count == 0) return std::nan("");
+    const double omega = 2.0 * std::numbers::pi / kPeriod;
+    return 2.0 * 2.0 * std::abs(component(t, y, w.mean, omega)) / double(w.count);
+}
+
+// The period of the record's strongest component: the peak of |component|
+// over periods of 0.5-2 times the paddle's, in steps of a thousandth of it.
+// The mean interval between up-crossings of the mean (two or three in the
+// record) moves with the waves' shape and noise: it read 0.932-0.993 s
+// where the spectral peak reads 0.991-1.011 s.
 double spectralPeriod(const std::vector<double>& t, const std::vector<double>& y) {
     const Window w = window(t, y);
     if (w.count == 0) return std::nan("");
     double best = std::nan(""), bestPower = -1.0;
-    for (double period = 0.5 * kPeriod; period <= 2.0 * kPeriod + 1e-12; period += 0.001) {
-        const double omega = 2.0 * std::numbers::pi / period;
-        std::complex<double> sum;
-        for (std::size_t k = 0; k < t.size(); ++k)
-            if (inRecord(t[k]))
-                sum += (y[k] - w.mean) * std::exp(std::complex<double>(0.0, -omega * t[k]));
-        if (std::norm(sum) > bestPower) {
-            bestPower = std::norm(sum);
+    for (int step = 500; step <= 2000; ++step) {
+        const double period = double(kPeriod) * step / 1000.0;
+        const double power = std::norm(component(t, y, w.mean, 2.0 * std::numbers::pi / period));
+        if (power > bestPower) {
+            bestPower = power;
             best = period;
         }
     }
