@@ -92,6 +92,20 @@ int size() {
     return 1;
 }
 
+int ranksHere() {
+#ifdef PBF_HAVE_MPI
+    if (started) {
+        MPI_Comm node;
+        MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+        int n = 1;
+        MPI_Comm_size(node, &n);
+        MPI_Comm_free(&node);
+        return n;
+    }
+#endif
+    return 1;
+}
+
 void abort(int status) {
 #ifdef PBF_HAVE_MPI
     if (started) MPI_Abort(MPI_COMM_WORLD, status);
@@ -136,6 +150,29 @@ double maxOverRanks(double value) {
     }
 #endif
     return value;
+}
+
+std::uint64_t sumOverRanks(std::uint64_t value) {
+#ifdef PBF_HAVE_MPI
+    if (started) {
+        unsigned long long mine = value, total = 0;
+        MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+        return total;
+    }
+#endif
+    return value;
+}
+
+std::uint64_t sumOverRanksBefore(std::uint64_t value) {
+#ifdef PBF_HAVE_MPI
+    if (started) {
+        unsigned long long mine = value, before = 0;
+        MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+        return rank() == 0 ? 0 : before;  // MPI_Exscan leaves rank 0's undefined
+    }
+#endif
+    (void)value;
+    return 0;
 }
 
 void barrier() {

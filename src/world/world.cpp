@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "bodies/rigid_bodies.hpp"
+#include "pbf/core/distributed.hpp"
 #include "pbf/core/param_table.hpp"
 
 namespace pbf {
@@ -53,8 +54,10 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
                                                               : device.freeBytes;
         if (limit > 0) checkDeviceMemory(def_, options.backend, device.description, limit);
     }
+    const bool distributedRun = options.backend == BackendKind::Mpi;
     if (const std::size_t available = availableMemoryBytes(); available > 0)
-        checkMemory(def_, available);
+        checkMemory(def_, available, distributedRun ? distributed::size() : 1,
+                    distributedRun ? distributed::ranksHere() : 1);
     local_ = pbf::localFrame(def_.simulation.domain);
     localDef_ = inFrame(def_, local_);
     settings_ = def_.simulation;
@@ -72,12 +75,35 @@ World::World(const WorldDef& def, const WorldOptions& options) : def_(def) {
         *solids_);
     indexSolids();
     backend_ = makeBackend(options.backend, localSettings_, options.backendOptions);
-    backend_->upload(createParticles(def_, solids_.get(), &skipped_, local_));
+    createParticles();
     for (const EmitterDescription& e : localDef_.emitters)
         emitters_.emplace_back(e, localSettings_);
     for (const OutletDescription& o : localDef_.outlets) outlets_.push_back(o.region);
     speedLimit_ = pbf::speedLimit(def_);
     startDepth_ = depthAlong(def_.fluidBlocks, settings_.gravity);
+}
+
+// One process creates every particle. A distributed backend's ranks each
+// create an equal share of the lattice sites (the one-process order: sites
+// in order, so the solid-distance work is even) and number their particles
+// after those of the ranks before; the backend sends each to its owner.
+void World::createParticles() {
+    if (backend_->kind() != BackendKind::Mpi) {
+        backend_->upload(pbf::createParticles(def_, solids_.get(), &skipped_, local_));
+        return;
+    }
+    const std::uint64_t sites = countParticles(def_, distributed::size());
+    const auto rank = std::uint64_t(distributed::rank()),
+               ranks = std::uint64_t(distributed::size());
+    std::size_t skipped = 0;
+    ParticleStore part = pbf::createParticles(def_, solids_.get(), &skipped, local_,
+                                              sites * rank / ranks, sites * (rank + 1) / ranks);
+    const std::uint64_t first = distributed::sumOverRanksBefore(part.size());
+    const std::uint64_t total = distributed::sumOverRanks(part.size());
+    for (std::uint64_t& id : part.id) id += first;
+    part.setNextId(total);
+    skipped_ = std::size_t(distributed::sumOverRanks(skipped));
+    backend_->uploadPart(std::move(part), first, total);
 }
 
 std::uint64_t World::emittedParticles() const {

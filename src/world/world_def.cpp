@@ -270,16 +270,17 @@ std::string validate(const WorldDef& def) {
     return validateOutlets(def);
 }
 
-std::size_t countParticles(const WorldDef& def) {
+std::size_t countParticles(const WorldDef& def, int processes) {
     const float spacing = def.simulation.particleSpacing();
     double total = 0.0;
     for (const FluidBlock& b : def.fluidBlocks) {
         total += double(latticeCount(b.box, 0, spacing)) * double(latticeCount(b.box, 1, spacing)) *
                  double(latticeCount(b.box, 2, spacing));
     }
-    if (total > 4e9)
+    if (total / std::max(1, processes) > 4e9)
         throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
-                         std::to_string(total) + " particles exceed the 32-bit particle index");
+                         std::to_string(total) + " particles exceed the 32-bit particle index" +
+                         (processes > 1 ? " of " + std::to_string(processes) + " processes" : ""));
     return static_cast<std::size_t>(total);
 }
 
@@ -346,32 +347,44 @@ std::unique_ptr<SolidSet> buildSolids(const WorldDef& def) {
 
 ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped,
                               const LocalFrame& frame) {
+    return createParticles(def, solids, skipped, frame, 0, countParticles(def));
+}
+
+ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped,
+                              const LocalFrame& frame, std::uint64_t siteBegin,
+                              std::uint64_t siteEnd) {
     const SimulationParams& sim = def.simulation;
     const float r = sim.particleRadius;
     const float spacing = sim.particleSpacing();
     ParticleStore store;
-    store.reserve(countParticles(def));
+    store.reserve(std::size_t(siteEnd - std::min(siteBegin, siteEnd)));
     std::size_t rejected = 0;
+    std::uint64_t blockBegin = 0;  // the block's first site in the lattice order
     for (const FluidBlock& b : def.fluidBlocks) {
-        const long long nx = latticeCount(b.box, 0, spacing), ny = latticeCount(b.box, 1, spacing),
-                        nz = latticeCount(b.box, 2, spacing);
+        const auto nx = std::uint64_t(latticeCount(b.box, 0, spacing)),
+                   ny = std::uint64_t(latticeCount(b.box, 1, spacing)),
+                   nz = std::uint64_t(latticeCount(b.box, 2, spacing));
+        const std::uint64_t blockEnd = blockBegin + nx * ny * nz;
         // Counted in world coordinates (where the corners were rounded),
         // placed in the frame.
         const Vec3 min = frame.toFrame(b.box.min);
-        for (long long k = 0; k < nz; ++k)
-            for (long long j = 0; j < ny; ++j)
-                for (long long i = 0; i < nx; ++i) {
-                    const Vec3 x = min + Vec3{r + float(i) * spacing, r + float(j) * spacing,
-                                              r + float(k) * spacing};
-                    Vec3 normal;
-                    // A particle spawned inside (or touching) a solid would be
-                    // shot out of it: leave the site empty instead.
-                    if (solids && solids->signedDistance(x, r, normal) < r) {
-                        ++rejected;
-                        continue;
-                    }
-                    store.add(x, b.velocity, sim.fluid.restDensity);
-                }
+        // Sites in the order (k, j, i) of the block, from its part of the range.
+        for (std::uint64_t s = std::max(siteBegin, blockBegin); s < std::min(siteEnd, blockEnd);
+             ++s) {
+            const std::uint64_t local = s - blockBegin;
+            const std::uint64_t i = local % nx, j = local / nx % ny, k = local / (nx * ny);
+            const Vec3 x =
+                min + Vec3{r + float(i) * spacing, r + float(j) * spacing, r + float(k) * spacing};
+            Vec3 normal;
+            // A particle spawned inside (or touching) a solid would be shot
+            // out of it: leave the site empty instead.
+            if (solids && solids->signedDistance(x, r, normal) < r) {
+                ++rejected;
+                continue;
+            }
+            store.add(x, b.velocity, sim.fluid.restDensity);
+        }
+        blockBegin = blockEnd;
     }
     if (skipped) *skipped = rejected;
     return store;
@@ -387,12 +400,16 @@ std::size_t estimatedBytesPerParticle(const SimulationParams& params) {
     return static_cast<std::size_t>(4 * 13 + 4 * 8 + 8 + neighbors * 4 * 1.25 + 0.5);
 }
 
-void checkMemory(const WorldDef& def, std::size_t availableBytes) {
-    const double needed =
-        double(countParticles(def)) * double(estimatedBytesPerParticle(def.simulation));
+void checkMemory(const WorldDef& def, std::size_t availableBytes, int processes,
+                 int processesHere) {
+    const std::size_t particles = countParticles(def, processes);
+    // This machine's processes hold their shares (and their halos, about
+    // the margin of the 25 % list headroom).
+    const double needed = double(particles) * double(estimatedBytesPerParticle(def.simulation)) *
+                          double(processesHere) / double(std::max(1, processes));
     if (needed > double(availableBytes))
-        throw SceneError((def.source.empty() ? def.name : def.source) + ": fluid_blocks: " +
-                         std::to_string(countParticles(def)) + " particles need about " +
+        throw SceneError((def.source.empty() ? def.name : def.source) +
+                         ": fluid_blocks: " + std::to_string(particles) + " particles need about " +
                          std::to_string(static_cast<long long>(needed / (1 << 20))) +
                          " MiB, more than the " + std::to_string(availableBytes >> 20) +
                          " MiB of memory available; use larger particles or smaller blocks");

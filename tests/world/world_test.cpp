@@ -201,3 +201,48 @@ TEST(World, ParticlesAddedAtRunTimeGetTheNextIds) {
 }
 
 }  // namespace
+
+// A distributed start: each rank creates a range of the lattice sites and
+// numbers its particles after the ranges before it. The ranges, cut
+// anywhere (mid-row, mid-block, empty), must give the one-process particles
+// with the one-process ids, solids leaving the same sites empty. Catches a
+// range that restarts a block's rows at its own first site, skips or
+// repeats the site at a cut, or counts a rejected site.
+TEST(World, LatticeRangesConcatenateToTheWholeLattice) {
+    pbf::WorldDef def = tank();
+    def.fluidBlocks.push_back({{{0.24f, 0.0f, 0.0f}, {0.4f, 0.12f, 0.2f}}, {0.5f, 0.0f, 0.0f}});
+    pbf::SolidDescription sphere;
+    sphere.kind = pbf::SolidDescription::Kind::Sphere;
+    sphere.center = {0.1f, 0.1f, 0.2f};
+    sphere.radius = 0.09f;
+    def.solids.push_back(sphere);
+    const auto solids = pbf::buildSolids(def);
+    std::size_t skipped = 0;
+    const pbf::ParticleStore whole = pbf::createParticles(def, solids.get(), &skipped);
+    const std::uint64_t sites = pbf::countParticles(def);
+    ASSERT_GT(skipped, 0u);
+    ASSERT_EQ(whole.size() + skipped, sites);
+    for (const std::vector<std::uint64_t>& cuts : {std::vector<std::uint64_t>{0, sites},
+                                                   {0, 7, 7, 351, 352, sites},
+                                                   {0, 1, 2, sites / 3, sites - 1, sites}}) {
+        pbf::ParticleStore joined;
+        std::size_t skippedInAll = 0;
+        for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+            std::size_t skippedHere = 0;
+            const pbf::ParticleStore part =
+                pbf::createParticles(def, solids.get(), &skippedHere, {}, cuts[k], cuts[k + 1]);
+            skippedInAll += skippedHere;
+            for (std::size_t i = 0; i < part.size(); ++i) {
+                EXPECT_EQ(part.id[i], i);
+                joined.add(part.position.get(i), part.velocity.get(i), part.density[i]);
+            }
+        }
+        EXPECT_EQ(skippedInAll, skipped);
+        ASSERT_EQ(joined.size(), whole.size());
+        EXPECT_EQ(joined.id, whole.id);
+        EXPECT_TRUE(sameBits(joined.position.x, whole.position.x));
+        EXPECT_TRUE(sameBits(joined.position.y, whole.position.y));
+        EXPECT_TRUE(sameBits(joined.position.z, whole.position.z));
+        EXPECT_TRUE(sameBits(joined.velocity.x, whole.velocity.x));
+    }
+}

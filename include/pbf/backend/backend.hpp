@@ -19,8 +19,10 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "pbf/backend/statistics.hpp"
@@ -164,6 +166,19 @@ class Backend {
     virtual void download(ParticleStore& out) const = 0;
     // Replaces the state (a checkpoint being restored, host edits).
     virtual void upload(ParticleStore state) = 0;
+    // Replaces the state, each process giving its part (collective for a
+    // distributed backend): `part` holds entries [first, first + part.size())
+    // of a memory order of `total` particles, the parts of the processes in
+    // rank order; part.nextId() is the next id of all. One process gives it
+    // all (first 0, total part.size()): upload(part).
+    virtual void uploadPart(ParticleStore part, std::uint64_t first, std::uint64_t total) {
+        if (first != 0 || part.size() != total)
+            throw std::logic_error(std::string(backendName(kind())) +
+                                   " backend: one process holds all particles (a part of " +
+                                   std::to_string(part.size()) + " at " + std::to_string(first) +
+                                   " of " + std::to_string(total) + " was given)");
+        upload(std::move(part));
+    }
 
     virtual BackendDiagnostics diagnostics() const = 0;
     // Particles held by each process of a distributed backend, in rank

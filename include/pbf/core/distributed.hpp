@@ -13,6 +13,7 @@
 // talks to MPI.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace pbf::distributed {
@@ -31,6 +32,7 @@ void finalize();
 bool active();  // MPI initialised by initialize()
 int rank();     // this process's rank (0 when not active)
 int size();     // ranks in the run (1 when not active)
+int ranksHere();  // ranks on this machine (sharing its memory; 1 when not active)
 // Ends every rank of the job with `status` (MPI_Abort) after a failure on
 // one rank that the others cannot learn of (they would wait for it forever).
 [[noreturn]] void abort(int status);
@@ -42,6 +44,10 @@ std::string broadcast(const std::string& text);
 bool anyRank(bool value);
 // The largest `value` over ranks (every rank gets it).
 double maxOverRanks(double value);
+// The sum of `value` over all ranks, and over the ranks before this one
+// (0 on rank 0); every rank gets its answer.
+std::uint64_t sumOverRanks(std::uint64_t value);
+std::uint64_t sumOverRanksBefore(std::uint64_t value);
 // Waits until every rank gets here.
 void barrier();
 

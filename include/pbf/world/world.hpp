@@ -220,6 +220,8 @@ class World {
     void applyHostEdits();
     void refreshArrays();
     void indexSolids();
+    // The fluid blocks' particles into the backend (each rank its share when distributed).
+    void createParticles();
     void placeDrivenSolids(double time);
 
     WorldDef def_;

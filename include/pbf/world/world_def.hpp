@@ -96,8 +96,9 @@ struct WorldDef {
 std::string validate(const WorldDef& def);
 
 // Number of particles the fluid blocks create (before solids remove any).
-// Throws SceneError beyond the 32-bit particle index.
-std::size_t countParticles(const WorldDef& def);
+// Throws SceneError when `processes` equal shares exceed the 32-bit
+// particle index of one process.
+std::size_t countParticles(const WorldDef& def, int processes = 1);
 
 // The point a solid's prescribed rotations turn about unless its motion
 // names a pivot: a box's or a cylinder's centre, a sphere's centre, a
@@ -113,11 +114,20 @@ std::unique_ptr<SolidSet> buildSolids(const WorldDef& def);
 // particles (and `solids`) are in `frame`.
 ParticleStore createParticles(const WorldDef& def, const SolidSet* solids = nullptr,
                               std::size_t* skipped = nullptr, const LocalFrame& frame = {});
+// The same for the lattice sites [siteBegin, siteEnd) of that order (block,
+// then z, y, x rows; countParticles(def) sites in all): a distributed start,
+// where each process creates its own range. Its ids start at 0: the process
+// adds the particles the ranges before it created.
+ParticleStore createParticles(const WorldDef& def, const SolidSet* solids, std::size_t* skipped,
+                              const LocalFrame& frame, std::uint64_t siteBegin,
+                              std::uint64_t siteEnd);
 
 // Refuses definitions whose particles would not fit in `availableBytes` of
 // memory (the bytes per particle the solver needs times the count); throws
-// SceneError naming the fluid blocks.
-void checkMemory(const WorldDef& def, std::size_t availableBytes);
+// SceneError naming the fluid blocks. Distributed: `processesHere` of the
+// run's `processes` share this machine's memory, each holding its share.
+void checkMemory(const WorldDef& def, std::size_t availableBytes, int processes = 1,
+                 int processesHere = 1);
 // The same for the GPU backend on `device` (include/pbf/backend/backend.hpp:
 // deviceBytesPerParticle, the cell table), with `availableBytes` free on it;
 // the message names the device (`description`, e.g. the GPU's name).

@@ -113,27 +113,14 @@ std::vector<std::uint64_t> KeyRangeHalo::cutsFor(const std::vector<std::uint64_t
     return cuts;
 }
 
-void KeyRangeHalo::rebalance(const std::vector<std::uint64_t>& cellKeys) {
-    // Cheap test first: the ranks' counts of the particles they hold now.
-    unsigned long long mine = cellKeys.size();
-    std::vector<unsigned long long> loads(static_cast<std::size_t>(ranks_));
-    checkMpi(MPI_Allgather(&mine, 1, MPI_UNSIGNED_LONG_LONG, loads.data(), 1,
-                           MPI_UNSIGNED_LONG_LONG, comm_),
-             "MPI_Allgather (particles per rank)");
-    unsigned long long total = 0, busiest = 0;
-    for (unsigned long long l : loads) {
-        total += l;
-        busiest = std::max(busiest, l);
-    }
-    if (total == 0) return;
-    const double mean = double(total) / ranks_;
-    if (double(busiest) <= std::max(1.05, 1.05 * balancedRatio_) * mean) return;
-
-    // The global histogram of particles per block, gathered sparse.
+void KeyRangeHalo::globalHistogram(const std::vector<std::uint64_t>& cellKeys,
+                                   std::vector<std::uint64_t>& keys,
+                                   std::vector<std::uint64_t>& counts) const {
+    // This rank's (block, count) pairs, gathered sparse from all ranks.
     std::vector<std::uint64_t> blocks(cellKeys.size());
     for (std::size_t i = 0; i < cellKeys.size(); ++i) blocks[i] = cellKeys[i] >> kBlockShift;
     std::sort(blocks.begin(), blocks.end());
-    std::vector<std::uint64_t> pairs;  // (block, count) of this rank
+    std::vector<std::uint64_t> pairs;
     for (std::size_t i = 0; i < blocks.size();) {
         std::size_t j = i;
         while (j < blocks.size() && blocks[j] == blocks[i]) ++j;
@@ -157,7 +144,8 @@ void KeyRangeHalo::rebalance(const std::vector<std::uint64_t>& cellKeys) {
     for (std::size_t k = 0; k + 1 < gathered.size(); k += 2)
         merged.emplace_back(gathered[k], gathered[k + 1]);
     std::sort(merged.begin(), merged.end());
-    std::vector<std::uint64_t> keys, counts;
+    keys.clear();
+    counts.clear();
     for (const auto& [block, count] : merged) {
         if (!keys.empty() && keys.back() == block) {
             counts.back() += count;
@@ -166,6 +154,26 @@ void KeyRangeHalo::rebalance(const std::vector<std::uint64_t>& cellKeys) {
             counts.push_back(count);
         }
     }
+}
+
+void KeyRangeHalo::rebalance(const std::vector<std::uint64_t>& cellKeys) {
+    // Cheap test first: the ranks' counts of the particles they hold now.
+    unsigned long long mine = cellKeys.size();
+    std::vector<unsigned long long> loads(static_cast<std::size_t>(ranks_));
+    checkMpi(MPI_Allgather(&mine, 1, MPI_UNSIGNED_LONG_LONG, loads.data(), 1,
+                           MPI_UNSIGNED_LONG_LONG, comm_),
+             "MPI_Allgather (particles per rank)");
+    unsigned long long total = 0, busiest = 0;
+    for (unsigned long long l : loads) {
+        total += l;
+        busiest = std::max(busiest, l);
+    }
+    if (total == 0) return;
+    const double mean = double(total) / ranks_;
+    if (double(busiest) <= std::max(1.05, 1.05 * balancedRatio_) * mean) return;
+
+    std::vector<std::uint64_t> keys, counts;
+    globalHistogram(cellKeys, keys, counts);
     auto busiestUnder = [&](const std::vector<std::uint64_t>& cuts) {
         std::vector<std::uint64_t> load(std::size_t(ranks_), 0);
         for (std::size_t k = 0; k < keys.size(); ++k) {
@@ -187,26 +195,13 @@ void KeyRangeHalo::rebalance(const std::vector<std::uint64_t>& cellKeys) {
     }
 }
 
-void KeyRangeHalo::cutFor(const ParticleStore& rootParticles) {
-    std::vector<std::uint64_t> cuts(cuts_.size());
-    if (rank_ == 0) {
-        std::vector<std::uint64_t> blocks(rootParticles.size());
-        for (std::size_t i = 0; i < blocks.size(); ++i)
-            blocks[i] = search_.keyOf(rootParticles.predicted.get(i)) >> kBlockShift;
-        std::sort(blocks.begin(), blocks.end());
-        std::vector<std::uint64_t> keys, counts;
-        for (std::uint64_t b : blocks) {
-            if (!keys.empty() && keys.back() == b) {
-                ++counts.back();
-            } else {
-                keys.push_back(b);
-                counts.push_back(1);
-            }
-        }
-        cuts = cutsFor(keys, counts);
-    }
-    checkMpi(MPI_Bcast(cuts.data(), int(cuts.size()), MPI_UINT64_T, 0, comm_),
-             "MPI_Bcast (cuts)");
+void KeyRangeHalo::cutFor(const ParticleStore& particles) {
+    std::vector<std::uint64_t> cellKeys(particles.size());
+    for (std::size_t i = 0; i < cellKeys.size(); ++i)
+        cellKeys[i] = search_.keyOf(particles.predicted.get(i));
+    std::vector<std::uint64_t> keys, counts;
+    globalHistogram(cellKeys, keys, counts);
+    std::vector<std::uint64_t> cuts = cutsFor(keys, counts);
     if (cuts != cuts_) ++rebalances_;
     adoptCuts(std::move(cuts));
     balancedRatio_ = 1.0;
@@ -219,17 +214,10 @@ void KeyRangeHalo::mergeRun(std::size_t runBegin) {
                        entries_.end(), byKey);
 }
 
-void KeyRangeHalo::distribute(ParticleStore& p) {
+void KeyRangeHalo::migrateEntries(const ParticleStore& p, const std::vector<std::uint64_t>& keys) {
+    // Particles of other ranks' cells go to them, in store order (key order)
+    // per destination.
     const std::size_t n0 = p.size();
-    if (!keys_ || keys_->size() != n0)
-        throw std::logic_error("KeyRangeHalo::distribute: keys do not match the particles");
-    const std::vector<std::uint64_t>& keys = *keys_;
-    cellKeys_.resize(n0);
-    for (std::size_t i = 0; i < n0; ++i) cellKeys_[i] = search_.keyOf(p.predicted.get(i));
-    rebalance(cellKeys_);
-
-    // Migration: particles of other ranks' cells go to them, in store order
-    // (key order) per destination.
     std::fill(sendCounts_.begin(), sendCounts_.end(), 0);
     entries_.clear();
     for (std::size_t i = 0; i < n0; ++i) {
@@ -242,41 +230,78 @@ void KeyRangeHalo::distribute(ParticleStore& p) {
     for (int r = 0, at = 0; r < ranks_; at += sendCounts_[std::size_t(r++)])
         sendOffsets_[std::size_t(r)] = at;
     outgoing_.resize(n0 - entries_.size());
-    {
-        std::vector<int> fill = sendOffsets_;
-        for (std::size_t i = 0; i < n0; ++i) {
-            const int r = ownerOfKey(cellKeys_[i]);
-            if (r != rank_) outgoing_[std::size_t(fill[std::size_t(r)]++)] = recordOf(p, i, keys[i]);
-        }
+    std::vector<int> fill = sendOffsets_;
+    for (std::size_t i = 0; i < n0; ++i) {
+        const int r = ownerOfKey(cellKeys_[i]);
+        if (r != rank_) outgoing_[std::size_t(fill[std::size_t(r)]++)] = recordOf(p, i, keys[i]);
     }
-    auto alltoallv = [&](const char* what) {
-        checkMpi(MPI_Alltoall(sendCounts_.data(), 1, MPI_INT, receiveCounts_.data(), 1, MPI_INT,
-                              comm_),
-                 what);
-        int arriving = 0;
-        for (int r = 0; r < ranks_; ++r) {
-            receiveOffsets_[std::size_t(r)] = arriving;
-            arriving += receiveCounts_[std::size_t(r)];
-        }
-        const std::size_t before = incoming_.size();
-        incoming_.resize(before + std::size_t(arriving));
-        checkMpi(MPI_Alltoallv(outgoing_.data(), sendCounts_.data(), sendOffsets_.data(),
-                               recordType_, incoming_.data() + before, receiveCounts_.data(),
-                               receiveOffsets_.data(), recordType_, comm_),
-                 what);
-        // The store is in key order and so is each sender's part: merge the runs.
-        for (int r = 0; r < ranks_; ++r) {
-            const std::size_t runBegin = entries_.size();
-            for (int k = 0; k < receiveCounts_[std::size_t(r)]; ++k) {
-                const std::size_t at = before + std::size_t(receiveOffsets_[std::size_t(r)] + k);
-                entries_.push_back({incoming_[at].key, std::uint32_t(n0 + at)});
-            }
-            if (runBegin > 0 && entries_.size() > runBegin) mergeRun(runBegin);
-        }
-        return std::size_t(arriving);
-    };
     incoming_.clear();
-    alltoallv("MPI_Alltoallv (migrating particles)");
+    exchangeRecords(n0, "MPI_Alltoallv (migrating particles)");
+}
+
+// Sends outgoing_ (sendCounts_ records to each rank, at sendOffsets_) and
+// appends what arrives to incoming_ and its entries to entries_, merged in
+// key order (the store is in key order and so is each sender's part).
+std::size_t KeyRangeHalo::exchangeRecords(std::size_t storeSize, const char* what) {
+    checkMpi(MPI_Alltoall(sendCounts_.data(), 1, MPI_INT, receiveCounts_.data(), 1, MPI_INT, comm_),
+             what);
+    int arriving = 0;
+    for (int r = 0; r < ranks_; ++r) {
+        receiveOffsets_[std::size_t(r)] = arriving;
+        arriving += receiveCounts_[std::size_t(r)];
+    }
+    const std::size_t before = incoming_.size();
+    incoming_.resize(before + std::size_t(arriving));
+    checkMpi(MPI_Alltoallv(outgoing_.data(), sendCounts_.data(), sendOffsets_.data(), recordType_,
+                           incoming_.data() + before, receiveCounts_.data(), receiveOffsets_.data(),
+                           recordType_, comm_),
+             what);
+    for (int r = 0; r < ranks_; ++r) {
+        const std::size_t runBegin = entries_.size();
+        for (int k = 0; k < receiveCounts_[std::size_t(r)]; ++k) {
+            const std::size_t at = before + std::size_t(receiveOffsets_[std::size_t(r)] + k);
+            entries_.push_back({incoming_[at].key, std::uint32_t(storeSize + at)});
+        }
+        if (runBegin > 0 && entries_.size() > runBegin) mergeRun(runBegin);
+    }
+    return std::size_t(arriving);
+}
+
+// The store rebuilt from entries_, in key order.
+void KeyRangeHalo::rebuild(ParticleStore& p) {
+    const std::size_t n0 = p.size(), n = entries_.size();
+    next_.keepOptionalFields(p.keptOptionalFields());
+    next_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Entry& e = entries_[k];
+        if (e.source < n0)
+            next_.copyParticle(k, p, e.source);
+        else
+            setFromRecord(next_, k, incoming_[e.source - n0]);
+    }
+    next_.setNextId(p.nextId());
+    std::swap(p, next_);
+}
+
+void KeyRangeHalo::migrate(ParticleStore& p, std::vector<std::uint64_t>& keys) {
+    if (keys.size() != p.size())
+        throw std::logic_error("KeyRangeHalo::migrate: keys do not match the particles");
+    cellKeys_.resize(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) cellKeys_[i] = search_.keyOf(p.predicted.get(i));
+    migrateEntries(p, keys);
+    rebuild(p);
+    keys.resize(entries_.size());
+    for (std::size_t k = 0; k < entries_.size(); ++k) keys[k] = entries_[k].key;
+}
+
+void KeyRangeHalo::distribute(ParticleStore& p) {
+    const std::size_t n0 = p.size();
+    if (!keys_ || keys_->size() != n0)
+        throw std::logic_error("KeyRangeHalo::distribute: keys do not match the particles");
+    cellKeys_.resize(n0);
+    for (std::size_t i = 0; i < n0; ++i) cellKeys_[i] = search_.keyOf(p.predicted.get(i));
+    rebalance(cellKeys_);
+    migrateEntries(p, *keys_);
 
     // Ghosts: each owned particle whose cell has a neighbour cell another
     // rank owns goes to that rank (in key order per destination).
@@ -296,21 +321,8 @@ void KeyRangeHalo::distribute(ParticleStore& p) {
         outgoing_.insert(outgoing_.end(), ghostsTo_[std::size_t(r)].begin(),
                          ghostsTo_[std::size_t(r)].end());
     }
-    ghostsReceived_ = alltoallv("MPI_Alltoallv (ghosts)");
-
-    // The new store, in key order.
-    const std::size_t n = entries_.size();
-    next_.keepOptionalFields(p.keptOptionalFields());
-    next_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-        const Entry& e = entries_[k];
-        if (e.source < n0)
-            next_.copyParticle(k, p, e.source);
-        else
-            setFromRecord(next_, k, incoming_[e.source - n0]);
-    }
-    next_.setNextId(p.nextId());
-    std::swap(p, next_);
+    ghostsReceived_ = exchangeRecords(n0, "MPI_Alltoallv (ghosts)");
+    rebuild(p);
 }
 
 void KeyRangeHalo::ownedRange(const NeighborSearch& search, std::size_t& begin, std::size_t& end) {

@@ -64,9 +64,13 @@ class KeyRangeHalo {
     const std::vector<std::uint64_t>& cuts() const { return cuts_; }
     int ownerOf(const Vec3& x) const;
     int ownerOfKey(std::uint64_t cellKey) const;
-    // Rank 0's particles (the others' arguments are ignored) cut into equal
-    // shares; every rank gets the same cuts.
-    void cutFor(const ParticleStore& rootParticles);
+    // Cuts into equal shares of all ranks' particles (collective: each
+    // gives its own); every rank gets the same cuts.
+    void cutFor(const ParticleStore& particles);
+    // Sends each particle to the rank that owns its cell (by x*); the store
+    // and `keys` (its particles' places in a total order, increasing) are
+    // replaced by this rank's, in key order.
+    void migrate(ParticleStore& p, std::vector<std::uint64_t>& keys);
     long long rebalances() const { return rebalances_; }
 
     // The keys of the store's particles, in store order, increasing (the
@@ -95,6 +99,15 @@ class KeyRangeHalo {
     template <class T>
     void exchangeBytes(T* data, std::size_t bytes);
     void mergeRun(std::size_t runBegin);
+    // The migration of distribute and migrate: entries_ and incoming_ hold
+    // this rank's particles (by the cell keys in cellKeys_) in key order.
+    void migrateEntries(const ParticleStore& p, const std::vector<std::uint64_t>& keys);
+    std::size_t exchangeRecords(std::size_t storeSize, const char* what);
+    void rebuild(ParticleStore& p);
+    // The count of all ranks' particles per block of cells (sorted blocks).
+    void globalHistogram(const std::vector<std::uint64_t>& cellKeys,
+                         std::vector<std::uint64_t>& keys,
+                         std::vector<std::uint64_t>& counts) const;
     // The ranks other than this one that own a neighbour cell of `cellKey`,
     // in increasing order, into peers_ (cached for the last key asked).
     const std::vector<int>& peersOf(std::uint64_t cellKey);

@@ -212,44 +212,39 @@ class MpiBackend final : public Backend {
         out = std::move(result);
     }
 
-    // Rank 0's state is cut into key ranges (balanced for its particles); the
-    // other ranks' arguments are ignored.
+    // Rank 0's state (the other ranks' arguments are ignored) is cut into
+    // key ranges: rank 0 gives it all as its part.
     void upload(ParticleStore state) override {
-        unsigned long long header[3] = {state.size(), state.nextId(), state.keptOptionalFields()};
-        checkMpi(MPI_Bcast(header, 3, MPI_UNSIGNED_LONG_LONG, 0, comm_), "MPI_Bcast (upload)");
-        halo_.cutFor(state);
-        std::vector<int> sendCounts(std::size_t(ranks_), 0), offsets(std::size_t(ranks_), 0);
-        std::vector<ParticleRecord> records;
-        if (rank_ == 0) {
-            std::vector<int> owner(state.size());
-            for (std::size_t i = 0; i < state.size(); ++i) {
-                owner[i] = halo_.ownerOf(state.predicted.get(i));
-                ++sendCounts[std::size_t(owner[i])];
-            }
-            std::exclusive_scan(sendCounts.begin(), sendCounts.end(), offsets.begin(), 0);
-            records.resize(state.size());
-            std::vector<int> fill = offsets;
-            for (std::size_t i = 0; i < state.size(); ++i) {
-                records[std::size_t(fill[std::size_t(owner[i])]++)] = recordOf(state, i, i);
-            }
-        }
-        int count = 0;
-        checkMpi(MPI_Scatter(sendCounts.data(), 1, MPI_INT, &count, 1, MPI_INT, 0, comm_),
-                 "MPI_Scatter (upload)");
-        std::vector<ParticleRecord> mine(static_cast<std::size_t>(count));
-        checkMpi(MPI_Scatterv(records.data(), sendCounts.data(), offsets.data(), halo_.recordType(),
-                              mine.data(), count, halo_.recordType(), 0, comm_),
-                 "MPI_Scatterv (upload)");
-        store_ = ParticleStore();
-        store_.keepOptionalFields(std::uint32_t(header[2]));
-        store_.resize(mine.size());
-        keys_.resize(mine.size());
-        for (std::size_t k = 0; k < mine.size(); ++k) {
-            setFromRecord(store_, k, mine[k]);
-            keys_[k] = mine[k].key;
-        }
-        store_.setNextId(std::uint32_t(header[1]));
-        total_ = header[0];
+        unsigned long long total = state.size();
+        checkMpi(MPI_Bcast(&total, 1, MPI_UNSIGNED_LONG_LONG, 0, comm_), "MPI_Bcast (upload)");
+        if (rank_ != 0) state = ParticleStore();
+        uploadPart(std::move(state), rank_ == 0 ? 0 : total, total);
+    }
+
+    // The parts are cut into key ranges balanced for all particles (a global
+    // histogram), and each particle goes to its range's rank; the parts'
+    // order is the one-process order (each particle's key: its place there).
+    void uploadPart(ParticleStore part, std::uint64_t first, std::uint64_t total) override {
+        unsigned long long count = part.size(), nextId = part.nextId();
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
+                 "MPI_Allreduce (upload)");
+        if (count != total)
+            throw std::logic_error("distributed upload: the parts hold " + std::to_string(count) +
+                                   " particles, not " + std::to_string(total));
+        // The next id and the optional fields of all (a rank may have no particles).
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &nextId, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm_),
+                 "MPI_Allreduce (next id)");
+        std::uint32_t optional = part.keptOptionalFields();
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &optional, 1, MPI_UINT32_T, MPI_BOR, comm_),
+                 "MPI_Allreduce (optional particle fields)");
+        part.keepOptionalFields(optional);
+        keys_.resize(part.size());
+        std::iota(keys_.begin(), keys_.end(), first);
+        halo_.cutFor(part);
+        halo_.migrate(part, keys_);
+        store_ = std::move(part);
+        store_.setNextId(nextId);
+        total_ = total;
         nextKey_ = total_;
         updateOffset();
     }
