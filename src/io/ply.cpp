@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/particle_ply.hpp"
 #include "pbf/io/io.hpp"
 
 namespace pbf {
@@ -27,17 +28,22 @@ std::size_t propertyBytes(std::string_view type) {
 
 }  // namespace
 
+std::string detail::plyHeader(std::string_view comment, std::span<const PlyProperty> properties,
+                              std::uint64_t count) {
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment " + std::string(comment) +
+                         "\nelement vertex " + std::to_string(count) + "\n";
+    for (const PlyProperty& p : properties)
+        header += "property " + std::string(p.type) + " " + std::string(p.name) + "\n";
+    return header + "end_header\n";
+}
+
 void writeVertexPly(const std::filesystem::path& path, std::string_view comment,
                     std::span<const PlyProperty> properties, std::size_t count,
                     const std::function<void(std::size_t k, char* record)>& fill) {
     std::size_t stride = 0;
     for (const PlyProperty& p : properties) stride += propertyBytes(p.type);
     writeFileAtomically(path, [&](std::ostream& out) {
-        out << "ply\nformat binary_little_endian 1.0\ncomment " << comment << "\n"
-            << "element vertex " << count << "\n";
-        for (const PlyProperty& p : properties)
-            out << "property " << p.type << " " << p.name << "\n";
-        out << "end_header\n";
+        out << detail::plyHeader(comment, properties, count);
         // Records written in chunks of up to 64k vertices.
         constexpr std::size_t kChunk = 65536;
         std::vector<char> buffer(std::min(count, kChunk) * stride);
@@ -59,20 +65,21 @@ std::uint32_t plyId(std::uint64_t id, const std::filesystem::path& path) {
     return static_cast<std::uint32_t>(id);
 }
 
+detail::ParticlePlyRecord detail::particlePlyRecord(const ParticleStore& p, std::size_t i,
+                                                    const std::filesystem::path& path) {
+    return {{p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i], p.velocity.y[i],
+             p.velocity.z[i], p.density[i]},
+            plyId(p.id[i], path)};
+}
+
 void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& p) {
-    static constexpr PlyProperty kProperties[] = {
-        {"float", "x"},  {"float", "y"},  {"float", "z"},       {"float", "vx"},
-        {"float", "vy"}, {"float", "vz"}, {"float", "density"}, {"uint", "id"}};
     const std::vector<std::uint32_t> order = p.orderById();
-    writeVertexPly(
-        path, "written by pbf", kProperties, order.size(), [&](std::size_t k, char* record) {
-            const std::uint32_t i = order[k];
-            const float f[7] = {p.position.x[i], p.position.y[i], p.position.z[i], p.velocity.x[i],
-                                p.velocity.y[i], p.velocity.z[i], p.density[i]};
-            std::memcpy(record, f, sizeof f);
-            const std::uint32_t id = plyId(p.id[i], path);
-            std::memcpy(record + sizeof f, &id, 4);
-        });
+    writeVertexPly(path, detail::kParticlePlyComment, detail::kParticlePlyProperties, order.size(),
+                   [&](std::size_t k, char* record) {
+                       const detail::ParticlePlyRecord r =
+                           detail::particlePlyRecord(p, order[k], path);
+                       std::memcpy(record, &r, sizeof r);
+                   });
 }
 
 ParticleFrame readParticlesPly(const std::filesystem::path& path) {

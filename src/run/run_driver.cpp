@@ -262,16 +262,16 @@ void RunDriver::startStats() {
 void RunDriver::record(const FrameReport& report) {
     const OutputTimer timer(summary_.outputSeconds);
     checkFreeSpace();
-    // Distributed: gathering the particles on rank 0 takes every rank.
-    if (distributed::anyRank(output_.writeParticles || output_.writeVtk || options_.writeFrame))
-        world_.particles();
+    // Distributed: gathering the particles on rank 0 (VTK, pictures) takes
+    // every rank; the PLY frames are written by all ranks at once.
+    if (distributed::anyRank(output_.writeVtk || bool(options_.writeFrame))) world_.particles();
+    if (output_.writeParticles)
+        writeParticlesPlyFromRanks(dir_ / frameFileName(report.frame), world_.ownParticles());
     const std::string row = statsCsvRow(report) + "\n";
     totals_.statsCsv += row;
     const std::string bodyRows = world_.bodyCount() > 0 ? bodiesCsvRows(world_) : "";
     totals_.bodiesCsv += bodyRows;
     if (writer_) {
-        if (output_.writeParticles)
-            writeParticlesPly(dir_ / frameFileName(report.frame), world_.particles());
         if (output_.writeVtk) writeVtkFrame(report.frame);
         if (options_.writeFrame) options_.writeFrame(report.frame, world_);
         appendToFile(dir_ / "stats.csv", row);

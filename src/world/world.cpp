@@ -212,7 +212,7 @@ FrameResult World::stepFrame() {
     FrameResult result;
     try {
         applyHostEdits();
-        downloadedValid_ = false;
+        downloadedValid_ = ownValid_ = false;
         const SolverParams& s = settings_.solver;
         const double frameDt = frameDuration();
         FrameReport& report = result.report;
@@ -318,6 +318,18 @@ FrameReport World::report() const {
     return r;
 }
 
+namespace {
+
+void toWorld(ParticleStore& p, const LocalFrame& frame) {
+    if (!frame.shifted()) return;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        p.position.set(i, frame.toWorld(p.position.get(i)));
+        p.predicted.set(i, frame.toWorld(p.predicted.get(i)));
+    }
+}
+
+}  // namespace
+
 const ParticleStore& World::particles() const {
     const ParticleStore* host = backend_->hostState();
     if (host && !local_.shifted()) return *host;
@@ -326,14 +338,20 @@ const ParticleStore& World::particles() const {
             downloaded_ = *host;
         else
             backend_->download(downloaded_);
-        if (local_.shifted())
-            for (std::size_t i = 0; i < downloaded_.size(); ++i) {
-                downloaded_.position.set(i, local_.toWorld(downloaded_.position.get(i)));
-                downloaded_.predicted.set(i, local_.toWorld(downloaded_.predicted.get(i)));
-            }
+        toWorld(downloaded_, local_);
         downloadedValid_ = true;
     }
     return downloaded_;
+}
+
+const ParticleStore& World::ownParticles() const {
+    if (backend_->kind() != BackendKind::Mpi) return particles();
+    if (!ownValid_) {
+        backend_->downloadPart(ownDownloaded_);
+        toWorld(ownDownloaded_, local_);
+        ownValid_ = true;
+    }
+    return ownDownloaded_;
 }
 
 void World::addParticles(std::span<const Vec3> positions, std::span<const Vec3> velocities) {
@@ -345,7 +363,7 @@ void World::addParticles(std::span<const Vec3> positions, std::span<const Vec3> 
     std::vector<Vec3> local(positions.begin(), positions.end());
     for (Vec3& x : local) x = local_.toFrame(x);
     backend_->append(local, velocities, settings_.fluid.restDensity);
-    downloadedValid_ = false;
+    downloadedValid_ = ownValid_ = false;
     refreshArrays();
 }
 
@@ -435,7 +453,7 @@ void World::applyHostEdits() {
         p.velocity.set(i, {v[3 * k], v[3 * k + 1], v[3 * k + 2]});
     }
     if (host == &copy) backend_->upload(std::move(copy));
-    downloadedValid_ = false;
+    downloadedValid_ = ownValid_ = false;
 }
 
 void World::setSolidMotion(std::size_t i, const SolidMotion& motion) {
@@ -545,7 +563,7 @@ void World::restoreState(WorldState state) {
     removed_ = state.removed;
     frame_ = state.frame;
     time_ = state.time;
-    downloadedValid_ = false;
+    downloadedValid_ = ownValid_ = false;
     refreshArrays();
 }
 

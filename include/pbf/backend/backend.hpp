@@ -166,6 +166,9 @@ class Backend {
     virtual void download(ParticleStore& out) const = 0;
     // Replaces the state (a checkpoint being restored, host edits).
     virtual void upload(ParticleStore state) = 0;
+    // A copy of this process's particles: a distributed backend's rank gives
+    // its own (without a gather), one process all of them (download()).
+    virtual void downloadPart(ParticleStore& out) const { download(out); }
     // Replaces the state, each process giving its part (collective for a
     // distributed backend): `part` holds entries [first, first + part.size())
     // of a memory order of `total` particles, the parts of the processes in

@@ -69,6 +69,15 @@ std::uint32_t plyId(std::uint64_t id, const std::filesystem::path& path);
 // Houdini, MeshLab and ParaView open it. An id past 32 bits throws IoError
 // (plyId) and leaves no file.
 void writeParticlesPly(const std::filesystem::path& path, const ParticleStore& particles);
+// The same file written by all ranks of a distributed run at once
+// (collective; pbf/core/distributed.hpp): `own` holds this rank's particles,
+// in any order. Each rank sends its particles to the rank that holds their
+// range of ids, and the ranks write their sorted runs into one file with
+// MPI-IO at offsets from the ranks' counts: no rank holds more than about its
+// share, and the bytes equal writeParticlesPly's for all the particles. The
+// directory must be one that every rank sees. Throws IoError on every rank.
+// One process: writeParticlesPly.
+void writeParticlesPlyFromRanks(const std::filesystem::path& path, const ParticleStore& own);
 // Reads a file written by writeParticlesPly (or any binary little-endian
 // PLY with float x, y, z; other properties optional). Throws IoError.
 ParticleFrame readParticlesPly(const std::filesystem::path& path);

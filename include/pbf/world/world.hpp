@@ -153,6 +153,10 @@ class World {
     // not in host memory, copied to world coordinates when the local frame is
     // shifted). Valid until the next step.
     const ParticleStore& particles() const;
+    // This process's particles: in a distributed run, this rank's own (no
+    // gather; in no particular order), else all of them (particles()).
+    // Valid until the next step.
+    const ParticleStore& ownParticles() const;
     // The particles by id, for scripting; writes to position and velocity
     // take effect at the next step. Valid (and kept up to date after every
     // frame) until the particle count changes.
@@ -254,6 +258,8 @@ class World {
     double speedLimit_ = 0.0;
     mutable ParticleStore downloaded_;  // particles() for backends without host state
     mutable bool downloadedValid_ = false;
+    mutable ParticleStore ownDownloaded_;  // ownParticles() of a distributed rank
+    mutable bool ownValid_ = false;
     std::unique_ptr<ParticleArrays> arrays_;  // exists once arraysById() was called
     // The positions arraysById() last showed, when the frame is shifted: only
     // those a script changed are written back (a world float rounds a far
