@@ -20,6 +20,7 @@
 #include <limits>
 #include <new>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -231,7 +232,18 @@ void writeColumn(const Writers& ranks, hid_t group, hid_t transfer, const char* 
     ranks.agreeHdf5(dataset.close(), what);
 }
 
-void writeStep(const Writers& ranks, const fs::path& temporary, int step, double time,
+// A scalar attribute of `object`, written collectively (every rank the same value).
+void writeAttribute(const Writers& ranks, hid_t object, const char* name, hid_t fileType,
+                    hid_t memoryType, const void* value) {
+    const H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
+    ranks.agreeHdf5(scalar.valid(), std::string("cannot write attribute ") + name);
+    const H5Handle attribute(
+        H5Acreate2(object, name, fileType, scalar.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+    ranks.agreeHdf5(attribute.valid() && H5Awrite(attribute.get(), memoryType, value) >= 0,
+                    std::string("cannot write attribute ") + name);
+}
+
+void writeStep(const Writers& ranks, const fs::path& temporary, int frame, double time,
                const ParticleStore& part, const std::vector<std::int64_t>& ids, std::uint64_t first,
                std::uint64_t total) {
     const H5Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
@@ -247,25 +259,20 @@ void writeStep(const Writers& ranks, const fs::path& temporary, int step, double
     H5Handle file(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
     ranks.agreeHdf5(file.valid(), "cannot create file (is the directory writable?)");
     {
-        // H5Part: one group per step, "Step#" and the step number.
-        const std::string stepName = "Step#" + std::to_string(step);
+        // H5Part numbers a file's steps Step#0, Step#1, ...: ParaView's
+        // H5Part reader opens the step groups by index from Step#0, and a
+        // file holding only Step#12 shows nothing. The frame's number is the
+        // group's attribute Frame instead.
+        const std::string stepName = "Step#0";
         H5Handle group(
             H5Gcreate2(file.get(), stepName.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
             H5Gclose);
         ranks.agreeHdf5(group.valid(), "cannot create group '" + stepName + "'");
-        // ParaView's H5Part reader takes a step's time from its TimeValue
-        // attribute when it is one native double (else it numbers the steps).
-        {
-            const H5Handle scalar(H5Screate(H5S_SCALAR), H5Sclose);
-            const H5Handle attribute(scalar.valid()
-                                         ? H5Acreate2(group.get(), "TimeValue", H5T_NATIVE_DOUBLE,
-                                                      scalar.get(), H5P_DEFAULT, H5P_DEFAULT)
-                                         : H5I_INVALID_HID,
-                                     H5Aclose);
-            ranks.agreeHdf5(
-                attribute.valid() && H5Awrite(attribute.get(), H5T_NATIVE_DOUBLE, &time) >= 0,
-                "cannot write attribute TimeValue");
-        }
+        // ParaView takes a step's time from its TimeValue attribute when that
+        // is one native double (otherwise it numbers the steps 0, 1, ...).
+        writeAttribute(ranks, group.get(), "TimeValue", H5T_NATIVE_DOUBLE, H5T_NATIVE_DOUBLE,
+                       &time);
+        writeAttribute(ranks, group.get(), "Frame", H5T_STD_I32LE, H5T_NATIVE_INT, &frame);
         const std::uint64_t count = part.size();
         const struct {
             const char* name;
@@ -287,6 +294,42 @@ void writeStep(const Writers& ranks, const fs::path& temporary, int step, double
     ranks.agreeHdf5(file.close(), "cannot close file (disk full?)");
 }
 
+// Writes `file` whole: write(temporary) fills a temporary file beside it
+// (HDF5 handles all closed when it returns), then rank 0 syncs it and renames
+// it over `file`. Throws on every rank alike; no temporary file is left.
+template <class Write>
+void writeWhole(const Writers& ranks, const fs::path& file, Write&& write) {
+    const QuietHdf5 quiet;
+    const fs::path temporary = temporaryName(ranks, file);
+    const auto removeTemporary = [&] {
+        std::error_code ignored;
+        if (ranks.rank() == 0) fs::remove(temporary, ignored);
+    };
+    try {
+        write(temporary);
+    } catch (const IoError&) {
+        // Every rank agreed on every outcome, so all are here together,
+        // their HDF5 handles closed.
+        removeTemporary();
+        throw;
+    }
+    // Every rank has closed the file (the agreement on H5Fclose is the
+    // barrier): rank 0 publishes it and tells the others how that went.
+    std::string failure;
+    if (ranks.rank() == 0) {
+        std::error_code ec;
+        if (!syncFile(temporary)) {
+            failure = "write failed when syncing to disk (disk full?)";
+        } else {
+            fs::rename(temporary, file, ec);
+            if (ec) failure = "cannot rename temporary file into place: " + ec.message();
+        }
+        if (!failure.empty()) removeTemporary();
+    }
+    failure = ranks.broadcast(failure, 0);
+    if (!failure.empty()) throw IoError(file.string() + ": " + failure);
+}
+
 }  // namespace
 
 bool h5partBuilt() {
@@ -298,7 +341,7 @@ H5PartComm H5PartComm::run() {
     return mpi(MPI_Comm_c2f(MPI_COMM_WORLD));
 }
 
-void writeH5PartFile(const fs::path& file, int step, double time, const ParticleStore& part,
+void writeH5PartFile(const fs::path& file, int frame, double time, const ParticleStore& part,
                      std::uint64_t first, std::uint64_t total, H5PartComm comm) {
     const Writers ranks(comm, file);
     checkParts(ranks, file, first, part.size(), total);
@@ -315,35 +358,27 @@ void writeH5PartFile(const fs::path& file, int step, double time, const Particle
     ranks.agree(std::none_of(ids.begin(), ids.end(), [](std::int64_t id) { return id < 0; }),
                 "cannot write", "a particle id past 2^63 - 1, the file's int64");
 
-    const QuietHdf5 quiet;
-    const fs::path temporary = temporaryName(ranks, file);
-    // Every rank agreed on every outcome, so all rethrow here together (each
-    // HDF5 handle closed by then); rank 0 removes the temporary file.
-    auto removeTemporary = [&] {
-        std::error_code ignored;
-        if (ranks.rank() == 0) fs::remove(temporary, ignored);
-    };
-    try {
-        writeStep(ranks, temporary, step, time, part, ids, first, total);
-    } catch (const IoError&) {
-        removeTemporary();
-        throw;
-    }
-    // Every rank has closed the file (the agreement on H5Fclose above is
-    // the barrier): rank 0 publishes it.
-    std::string failure;
-    if (ranks.rank() == 0) {
-        std::error_code ec;
-        if (!syncFile(temporary)) {
-            failure = "write failed when syncing to disk (disk full?)";
-        } else {
-            fs::rename(temporary, file, ec);
-            if (ec) failure = "cannot rename temporary file into place: " + ec.message();
+    writeWhole(ranks, file, [&](const fs::path& temporary) {
+        writeStep(ranks, temporary, frame, time, part, ids, first, total);
+    });
+}
+
+void writeH5PartIndex(const fs::path& file, std::span<const fs::path> frames) {
+    const Writers self(H5PartComm::thisProcess(), file);
+    writeWhole(self, file, [&](const fs::path& temporary) {
+        H5Handle h5(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                    H5Fclose);
+        self.agreeHdf5(h5.valid(), "cannot create file (is the directory writable?)");
+        // An external link is a name: HDF5 resolves a relative one against
+        // the index's own directory when ParaView follows it.
+        for (std::size_t k = 0; k < frames.size(); ++k) {
+            const std::string step = "Step#" + std::to_string(k);
+            self.agreeHdf5(H5Lcreate_external(frames[k].c_str(), "/Step#0", h5.get(), step.c_str(),
+                                              H5P_DEFAULT, H5P_DEFAULT) >= 0,
+                           "cannot link " + step + " to " + frames[k].string());
         }
-        if (!failure.empty()) removeTemporary();
-    }
-    failure = ranks.broadcast(failure, 0);
-    if (!failure.empty()) throw IoError(file.string() + ": " + failure);
+        self.agreeHdf5(h5.close(), "cannot close file (disk full?)");
+    });
 }
 
 namespace {
@@ -383,6 +418,19 @@ bool readColumn(hid_t group, const fs::path& file, const char* name, hid_t memor
     return true;
 }
 
+// A scalar attribute of `object` as `memoryType`; left empty when absent.
+template <class T>
+void readAttribute(hid_t object, const fs::path& file, const char* name, hid_t memoryType,
+                   std::optional<T>& out) {
+    if (H5Aexists(object, name) <= 0) return;
+    const H5Handle attribute(H5Aopen(object, name, H5P_DEFAULT), H5Aclose);
+    T value{};
+    if (!attribute.valid() || H5Aread(attribute.get(), memoryType, &value) < 0)
+        throw IoError(file.string() + ": cannot read attribute " + name + " (" + hdf5Reason() +
+                      ")");
+    out = value;
+}
+
 // The file's step groups by number ("Step#12" -> 12), lowest first.
 std::vector<std::pair<long long, std::string>> stepGroups(hid_t file, const fs::path& path) {
     using Steps = std::vector<std::pair<long long, std::string>>;
@@ -414,24 +462,14 @@ H5PartFrame readH5PartFile(const fs::path& file) {
         throw IoError(file.string() + ": cannot open H5Part file (" + hdf5Reason() + ")");
     const auto steps = stepGroups(h5.get(), file);
     if (steps.empty()) throw IoError(file.string() + ": no Step#<n> group (not an H5Part file)");
-    const auto& [number, name] = steps.front();
-    if (number < std::numeric_limits<int>::min() || number > std::numeric_limits<int>::max())
-        throw IoError(file.string() + ": step number " + std::to_string(number) + " out of range");
+    const std::string& name = steps.front().second;
     const H5Handle group(H5Gopen2(h5.get(), name.c_str(), H5P_DEFAULT), H5Gclose);
     if (!group.valid())
         throw IoError(file.string() + ": cannot open group '" + name + "' (" + hdf5Reason() + ")");
 
     H5PartFrame frame;
-    frame.step = int(number);
-    const htri_t hasTime = H5Aexists(group.get(), "TimeValue");
-    if (hasTime > 0) {
-        const H5Handle attribute(H5Aopen(group.get(), "TimeValue", H5P_DEFAULT), H5Aclose);
-        double time = 0.0;
-        if (!attribute.valid() || H5Aread(attribute.get(), H5T_NATIVE_DOUBLE, &time) < 0)
-            throw IoError(file.string() + ": cannot read attribute TimeValue (" + hdf5Reason() +
-                          ")");
-        frame.time = time;
-    }
+    readAttribute(group.get(), file, "TimeValue", H5T_NATIVE_DOUBLE, frame.time);
+    readAttribute(group.get(), file, "Frame", H5T_NATIVE_INT, frame.frame);
 
     std::size_t count = std::numeric_limits<std::size_t>::max();
     std::array<std::vector<float>, 3> position, velocity;
@@ -439,7 +477,7 @@ H5PartFrame readH5PartFile(const fs::path& file) {
     const char* velocityNames[] = {"vx", "vy", "vz"};
     for (int c = 0; c < 3; ++c)
         if (!readColumn(group.get(), file, positionNames[c], H5T_NATIVE_FLOAT, count, position[c]))
-            throw IoError(file.string() + ": step '" + name + "' has no dataset '" +
+            throw IoError(file.string() + ": group '" + name + "' has no dataset '" +
                           positionNames[c] + "'");
     int velocityColumns = 0;
     for (int c = 0; c < 3; ++c)

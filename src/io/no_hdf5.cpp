@@ -1,5 +1,5 @@
-// H5Part files in a build without parallel HDF5 (PBF_HDF5 off): both
-// functions say what to install.
+// H5Part files in a build without parallel HDF5 (PBF_HDF5 off): every
+// function says what to install.
 #include <string>
 
 #include "pbf/io/h5part.hpp"
@@ -25,6 +25,10 @@ H5PartComm H5PartComm::run() {
 
 void writeH5PartFile(const std::filesystem::path& file, int, double, const ParticleStore&,
                      std::uint64_t, std::uint64_t, H5PartComm) {
+    refuse(file);
+}
+
+void writeH5PartIndex(const std::filesystem::path& file, std::span<const std::filesystem::path>) {
     refuse(file);
 }
 

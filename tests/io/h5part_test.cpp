@@ -47,14 +47,14 @@ pbf::ParticleStore someParticles(int n) {
     return p;
 }
 
-TEST(H5Part, RoundTripKeepsEveryFieldTheTimeAndTheIdsInStoreOrder) {
+TEST(H5Part, RoundTripKeepsEveryFieldTheFrameTimeAndIdsInStoreOrder) {
     if (!pbf::h5partBuilt()) GTEST_SKIP() << "pbf was built without parallel HDF5 (PBF_HDF5)";
     const pbf::ParticleStore p = someParticles(100);
     const fs::path dir = freshDirectory("h5part");
     const fs::path file = dir / "frame_00012.h5part";
     pbf::writeH5PartFile(file, 12, 0.4, p, 0, p.size(), pbf::H5PartComm::thisProcess());
     const pbf::H5PartFrame frame = pbf::readH5PartFile(file);
-    EXPECT_EQ(frame.step, 12);
+    EXPECT_EQ(frame.frame, 12);
     ASSERT_TRUE(frame.time.has_value());
     EXPECT_EQ(*frame.time, 0.4);
     const pbf::ParticleFrame& f = frame.particles;
@@ -80,7 +80,7 @@ TEST(H5Part, RewritingReplacesTheWholeFile) {
     pbf::writeH5PartFile(file, 1, 0.1, many, 0, many.size(), pbf::H5PartComm::thisProcess());
     pbf::writeH5PartFile(file, 2, 0.2, few, 0, few.size(), pbf::H5PartComm::thisProcess());
     const pbf::H5PartFrame frame = pbf::readH5PartFile(file);
-    EXPECT_EQ(frame.step, 2);
+    EXPECT_EQ(frame.frame, 2);
     EXPECT_EQ(frame.time, 0.2);
     EXPECT_EQ(frame.particles.position.size(), 3u);
     EXPECT_EQ(filesIn(dir), std::vector<std::string>{"frame_00001.h5part"});
@@ -93,7 +93,7 @@ TEST(H5Part, NoParticlesIsAStepOfEmptyDatasets) {
     pbf::writeH5PartFile(dir / "f.h5part", 0, 0.0, pbf::ParticleStore(), 0, 0,
                          pbf::H5PartComm::thisProcess());
     const pbf::H5PartFrame frame = pbf::readH5PartFile(dir / "f.h5part");
-    EXPECT_EQ(frame.step, 0);
+    EXPECT_EQ(frame.frame, 0);
     EXPECT_EQ(frame.time, 0.0);
     EXPECT_TRUE(frame.particles.position.empty());
     fs::remove_all(dir);
@@ -165,6 +165,28 @@ TEST(H5Part, ReadingAFileThatIsNotHdf5NamesIt) {
     fs::remove_all(dir);
 }
 
+TEST(H5Part, IndexLinksTheFramesInOrder) {
+    if (!pbf::h5partBuilt()) GTEST_SKIP() << "pbf was built without parallel HDF5 (PBF_HDF5)";
+    const fs::path dir = freshDirectory("h5part_index");
+    const pbf::ParticleStore first = someParticles(4), second = someParticles(7);
+    const auto one = pbf::H5PartComm::thisProcess();
+    pbf::writeH5PartFile(dir / "frame_00000.h5part", 0, 0.0, first, 0, first.size(), one);
+    pbf::writeH5PartFile(dir / "frame_00001.h5part", 1, 0.5, second, 0, second.size(), one);
+    const std::vector<fs::path> frames{"frame_00001.h5part", "frame_00000.h5part"};
+    pbf::writeH5PartIndex(dir / "particles.h5part", frames);
+    // Step#0 is the first frame listed, found from the index's directory.
+    const pbf::H5PartFrame frame = pbf::readH5PartFile(dir / "particles.h5part");
+    EXPECT_EQ(frame.frame, 1);
+    EXPECT_EQ(frame.time, 0.5);
+    EXPECT_EQ(frame.particles.position.size(), 7u);
+    // A few hundred bytes per frame: links, not copies.
+    EXPECT_LT(fs::file_size(dir / "particles.h5part"), 4096u);
+    EXPECT_EQ(filesIn(dir).size(), 3u);
+    EXPECT_THROW(pbf::writeH5PartIndex(dir / "missing" / "particles.h5part", frames), pbf::IoError);
+    EXPECT_EQ(filesIn(dir).size(), 3u);
+    fs::remove_all(dir);
+}
+
 TEST(H5Part, BuildWithoutHdf5SaysWhatToInstall) {
     if (pbf::h5partBuilt()) GTEST_SKIP() << "this build has parallel HDF5";
     try {
@@ -176,6 +198,8 @@ TEST(H5Part, BuildWithoutHdf5SaysWhatToInstall) {
                   "f.h5part: pbf was built without parallel HDF5; install libhdf5-openmpi-dev "
                   "and reconfigure");
     }
+    EXPECT_THROW(pbf::writeH5PartIndex("i.h5part", {}), pbf::IoError);
+    EXPECT_THROW(pbf::readH5PartFile("f.h5part"), pbf::IoError);
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 // each rank its own range of every dataset), so no rank gathers the others'
 // particles (docs/distributed.md, "Parallel output: H5Part").
 //
-// A file holds one group `Step#<step>` in the H5Part layout that ParaView's
+// A file holds one group `Step#0` in the H5Part layout that ParaView's
 // H5Part reader (and VisIt's) opens:
 //   x, y, z      float32  position, metres (the coordinates the caller passes:
 //                         World::particles() gives world coordinates)
@@ -13,19 +13,22 @@
 //                         64-bit signed integers)
 // one value per particle, the ranks' parts one after another in rank order
 // (not sorted by id: the id dataset names each particle), and the group's
-// attribute TimeValue (float64, seconds), which ParaView shows as the step's
-// time. These are the PLY frames' fields (pbf/io/io.hpp).
+// attributes TimeValue (float64, seconds), which ParaView shows as the
+// step's time, and Frame (int32, the frame's number). These are the PLY
+// frames' fields (pbf/io/io.hpp). The group is Step#0 in every file, not
+// Step#<frame>: ParaView's reader opens a file's steps by index from Step#0.
 //
 // Every file is written whole: to a temporary file beside it, renamed over
 // it by rank 0 once every rank has finished, so a killed run never leaves a
 // half-written frame. Needs a build with parallel HDF5 (CMake option
-// PBF_HDF5, Debian's libhdf5-openmpi-dev); without it both functions throw
-// IoError saying what to install.
+// PBF_HDF5, Debian's libhdf5-openmpi-dev); without it every function here
+// throws IoError saying what to install.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 
 #include "pbf/core/particles.hpp"
 #include "pbf/io/io.hpp"
@@ -53,8 +56,8 @@ struct H5PartComm {
 // Whether this build writes and reads H5Part files (CMake option PBF_HDF5).
 bool h5partBuilt();
 
-// Writes `file` (frame_00012.h5part) collectively: every rank of `comm` calls
-// it with its own part. This rank's particles are entries
+// Writes frame `frame` to `file` (frame_00012.h5part) collectively: every
+// rank of `comm` calls it with its own part. This rank's particles are entries
 // [first, first + part.size()) of the step's `total` particles (the ranks'
 // parts are contiguous and in rank order; a rank may hold none); `time` in
 // seconds. Throws, on every rank alike so that none is left waiting in a
@@ -62,14 +65,27 @@ bool h5partBuilt();
 // is missing or not writable, HDF5 or MPI-IO fails; the message is the first
 // failing rank's, and no temporary file is left), std::invalid_argument when
 // the parts do not tile [0, total). Call from one thread at a time.
-void writeH5PartFile(const std::filesystem::path& file, int step, double time,
+void writeH5PartFile(const std::filesystem::path& file, int frame, double time,
                      const ParticleStore& part, std::uint64_t first, std::uint64_t total,
                      H5PartComm comm);
 
-// A step of an H5Part file as read back.
+// An index of a run's frame files for ParaView: `file` (particles.h5part)
+// holds the groups Step#0, Step#1, ... as HDF5 external links to the Step#0
+// of each of `frames` in turn (paths as stored, relative ones resolved from
+// the index's directory). ParaView's H5Part reader opens one file, not a
+// series of files, and shows its steps as time steps: opened on the index,
+// it plays the whole run at the frames' TimeValues. Links only (a few
+// hundred bytes per frame), written whole by the calling process alone (rank
+// 0 in a distributed run), after the frames it lists. Throws IoError naming
+// `file`.
+void writeH5PartIndex(const std::filesystem::path& file,
+                      std::span<const std::filesystem::path> frames);
+
+// A step of an H5Part file as read back; the attributes are absent from
+// some other writers' files.
 struct H5PartFrame {
-    int step = 0;
-    std::optional<double> time;  // the TimeValue attribute (absent in some writers' files)
+    std::optional<int> frame;    // the Frame attribute
+    std::optional<double> time;  // the TimeValue attribute, seconds
     ParticleFrame particles;     // in the file's order; velocity, density, id as present
 };
 
