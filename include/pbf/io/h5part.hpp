@@ -4,7 +4,7 @@
 // particles (docs/distributed.md, "Parallel output: H5Part").
 //
 // A file holds one group `Step#0` in the H5Part layout that ParaView's
-// H5Part reader (and VisIt's) opens:
+// H5Part reader opens:
 //   x, y, z      float32  position, metres (the coordinates the caller passes:
 //                         World::particles() gives world coordinates)
 //   vx, vy, vz   float32  velocity, m/s
