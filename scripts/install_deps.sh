@@ -26,6 +26,10 @@ packages=(
   paraview python3-paraview blender
   # distributed runs (PBF_MPI, docs/distributed.md): mpirun -np N pbf run ...
   libopenmpi-dev openmpi-bin
+  # parallel H5Part frames (PBF_HDF5, docs/distributed.md): HDF5 built with Open MPI.
+  # Measured on the 2-core machine with its runtime already there (ParaView brings
+  # it): 8 packages, 16 MB, 10 s.
+  libhdf5-openmpi-dev
   # the GPU backend's CPU build (cuda-on-cpu) where no CUDA toolkit is installed:
   # Thrust 1.17 and CUB (with the toolkit, its CCCL is used and these are built
   # against too, tests/backend/gpu/device_thrust_versions_test.cpp)
