@@ -17,6 +17,7 @@
 #include "pbf/core/distributed.hpp"
 #include "pbf/core/threading.hpp"
 #include "pbf/io/checkpoint.hpp"
+#include "pbf/io/h5part.hpp"
 #include "pbf/io/io.hpp"
 #include "pbf/io/scene.hpp"
 #include "pbf/run/run.hpp"
@@ -37,6 +38,7 @@ struct RunArguments {
     bool quiet = false;
     bool vdbPoints = false;
     bool vtk = false;
+    bool h5part = false;
     bool mesh = false;
     bool usd = false;
     bool resume = false;
@@ -98,6 +100,13 @@ int runScene(RunArguments args) {
     if (args.noParticles) scene.output.writeParticles = false;
     if (args.vdbPoints) scene.output.writeVdbPoints = true;
     if (args.vtk) scene.output.writeVtk = true;
+    if (args.h5part) {
+        if (!h5partBuilt())
+            throw SceneError(
+                "--h5part: this pbf was built without parallel HDF5 (PBF_HDF5=OFF); "
+                "install libhdf5-openmpi-dev and reconfigure");
+        scene.output.writeH5Part = true;
+    }
     if (args.usd) scene.output.writeUsd = true;
     if (args.mesh && !scene.output.writeParticles)
         throw SceneError(
@@ -293,6 +302,9 @@ std::function<int()> addRunCommand(CLI::App& app) {
     run->add_flag("--vtk", args->vtk,
                   "Also write VTK XML particles frame_NNNNN.vtu and particles.pvd for ParaView "
                   "(as output.vtk=true)");
+    run->add_flag("--h5part", args->h5part,
+                  "Also write H5Part particles frame_NNNNN.h5part and particles.h5part for "
+                  "ParaView, by all ranks of a distributed run at once (as output.h5part=true)");
     run->add_flag("--usd", args->usd,
                   "At the end also write a USD stage of the run, RUN_DIR/run.usda (as "
                   "output.usd=true and `pbf export usd RUN_DIR`; with --mesh it has the surfaces)");

@@ -10,6 +10,7 @@
 #include "core/hash.hpp"
 #include "io/json_reader.hpp"
 #include "pbf/core/param_table.hpp"
+#include "pbf/io/h5part.hpp"
 #include "pbf/io/motion_file.hpp"
 
 namespace pbf {
@@ -520,6 +521,11 @@ Scene parseScene(std::string_view jsonText, const std::string& sourceName,
         out.writeParticles = o.boolean("particles", out.writeParticles);
         out.writeVdbPoints = o.boolean("vdb_points", out.writeVdbPoints);
         out.writeVtk = o.boolean("vtk", out.writeVtk);
+        out.writeH5Part = o.boolean("h5part", out.writeH5Part);
+        if (out.writeH5Part && !h5partBuilt())
+            o.fail("h5part",
+                   "this pbf was built without parallel HDF5 (PBF_HDF5=OFF); install "
+                   "libhdf5-openmpi-dev and reconfigure, or set it to false");
         out.writeUsd = o.boolean("usd", out.writeUsd);
         out.checkpointEvery = o.integer("checkpoint_every", out.checkpointEvery);
         if (out.checkpointEvery < 0 || out.checkpointEvery > 1000000)

@@ -11,6 +11,7 @@
 #include "pbf/core/distributed.hpp"
 #include "pbf/core/state_guard.hpp"
 #include "pbf/core/version.hpp"
+#include "pbf/io/h5part.hpp"
 #include "pbf/io/io.hpp"
 #include "pbf/io/vtk.hpp"
 
@@ -117,10 +118,12 @@ std::uintmax_t vtuBytes(std::size_t particles) {
 // Bytes of the per-frame files the scene's output asks for.
 std::uintmax_t frameBytes(const OutputParams& output, std::size_t particles) {
     return (output.writeParticles ? plyBytes(particles) : 0) +
-           (output.writeVtk ? vtuBytes(particles) + 128 : 0);  // + a .pvd entry
+           (output.writeVtk ? vtuBytes(particles) + 128 : 0) +  // + a .pvd entry
+           (output.writeH5Part ? 4096 + std::uintmax_t{particles} * 36 : 0);
 }
 
 constexpr const char* kCollectionName = "particles.pvd";
+constexpr const char* kH5PartIndexName = "particles.h5part";
 
 std::string readFileBytes(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
@@ -133,6 +136,9 @@ std::string readFileBytes(const fs::path& file) {
 
 fs::path vtuFileName(int frame) {
     return frameFileName(frame).replace_extension(".vtu");
+}
+fs::path h5partFileName(int frame) {
+    return frameFileName(frame).replace_extension(".h5part");
 }
 
 }  // namespace
@@ -267,6 +273,7 @@ void RunDriver::record(const FrameReport& report) {
     if (distributed::anyRank(output_.writeVtk || bool(options_.writeFrame))) world_.particles();
     if (output_.writeParticles)
         writeParticlesPlyFromRanks(dir_ / frameFileName(report.frame), world_.ownParticles());
+    if (output_.writeH5Part) writeH5PartFrame(report.frame);
     const std::string row = statsCsvRow(report) + "\n";
     totals_.statsCsv += row;
     const std::string bodyRows = world_.bodyCount() > 0 ? bodiesCsvRows(world_) : "";
@@ -285,6 +292,22 @@ void RunDriver::record(const FrameReport& report) {
     totals_.substeps += report.substeps;
     totals_.solverMilliseconds += report.stageMs.total;
     if (options_.onFrame) options_.onFrame(report);
+}
+
+// The frame's file, written by all ranks (each its own particles, in rank
+// order), then the index listing the frames so far (rank 0): the index
+// never lists a file that is not whole.
+void RunDriver::writeH5PartFrame(int frame) {
+    const ParticleStore& own = world_.ownParticles();
+    writeH5PartFile(dir_ / h5partFileName(frame), frame, frame / double(scene_.fps), own,
+                    distributed::sumOverRanksBefore(own.size()),
+                    distributed::sumOverRanks(own.size()), H5PartComm::run());
+    if (!writer_) return;
+    std::vector<fs::path> frames;
+    for (int k = 0; k <= frame; ++k)
+        if (std::error_code ec; fs::exists(dir_ / h5partFileName(k), ec))
+            frames.push_back(h5partFileName(k));
+    writeH5PartIndex(dir_ / kH5PartIndexName, frames);
 }
 
 // The .vtu file, then its entry in particles.pvd: the collection never lists

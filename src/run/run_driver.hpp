@@ -32,6 +32,7 @@ class RunDriver {
     void startStats();
     void record(const FrameReport& report);
     void writeVtkFrame(int frame);
+    void writeH5PartFrame(int frame);
     void restoreCollection() const;
     bool checkpointDue() const;
     void saveCheckpoint();

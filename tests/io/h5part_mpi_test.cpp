@@ -15,6 +15,8 @@
 //     (tests/clients/paraview_h5part_test.py).
 //   pbf_h5part_mpi_test compare A B    (one process, no MPI)
 //     The two files hold the same step, time and datasets.
+//   pbf_h5part_mpi_test matches-ply H5PART PLY    (one process, no MPI)
+//     A run's H5Part frame, sorted by id, holds the PLY frame's particles.
 // Prints "PASS" (rank 0) when every check held; exits 1 otherwise.
 #include <mpi.h>
 
@@ -84,6 +86,28 @@ void checkEqual(const pbf::H5PartFrame& a, const pbf::H5PartFrame& b, const std:
     check(p.velocity == q.velocity, what + ": velocities differ");
     check(p.density == q.density, what + ": densities differ");
     check(p.id == q.id, what + ": ids differ");
+}
+
+// An H5Part frame of a run against its PLY frame (in id order).
+void checkMatchesPly(const pbf::H5PartFrame& h5, const pbf::ParticleFrame& ply,
+                     const std::string& what) {
+    const pbf::ParticleFrame& f = h5.particles;
+    check(f.id.size() == ply.id.size(), what + ": " + std::to_string(f.id.size()) +
+                                            " particles, the PLY frame " +
+                                            std::to_string(ply.id.size()));
+    if (f.id.size() != ply.id.size() || f.velocity.size() != f.id.size() ||
+        f.density.size() != f.id.size())
+        return;
+    std::vector<std::size_t> order(f.id.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return f.id[a] < f.id[b]; });
+    for (std::size_t k = 0; k < order.size() && failures <= 10; ++k) {
+        const std::size_t i = order[k];
+        check(f.id[i] == ply.id[k] && f.position[i] == ply.position[k] &&
+                  f.velocity[i] == ply.velocity[k] && f.density[i] == ply.density[k],
+              what + ": the particle with id " + std::to_string(f.id[i]) + " differs");
+    }
 }
 
 // The read-back file against the whole set.
@@ -246,6 +270,13 @@ int main(int argc, char** argv) {
                 std::printf("PASS: %s and %s hold the same step\n", argv[2], argv[3]);
             return failures == 0 ? 0 : 1;
         }
+        if (mode == "matches-ply" && argc == 4) {
+            checkMatchesPly(pbf::readH5PartFile(argv[2]), pbf::readParticlesPly(argv[3]),
+                            std::string(argv[2]) + " against " + argv[3]);
+            if (failures == 0)
+                std::printf("PASS: %s holds the particles of %s\n", argv[2], argv[3]);
+            return failures == 0 ? 0 : 1;
+        }
         if (mode == "write" && argc == 3) {
             MPI_Init(&argc, &argv);
             const int status = write(argv[2]);
@@ -259,6 +290,6 @@ int main(int argc, char** argv) {
         if (initialized) MPI_Abort(MPI_COMM_WORLD, 1);  // the other ranks would wait
         return 1;
     }
-    std::fprintf(stderr, "usage: %s write OUT | compare A B\n", argv[0]);
+    std::fprintf(stderr, "usage: %s write OUT | compare A B | matches-ply H5PART PLY\n", argv[0]);
     return 2;
 }

@@ -45,6 +45,10 @@ struct OutputParams {
     // VTK XML particles per frame (frame_NNNNN.vtu) and particles.pvd with
     // the frame times, for ParaView (include/pbf/io/vtk.hpp).
     bool writeVtk = false;
+    // H5Part particles per frame (frame_NNNNN.h5part) and particles.h5part
+    // listing them with their times, for ParaView; written by all ranks of a
+    // distributed run at once (include/pbf/io/h5part.hpp; needs PBF_HDF5).
+    bool writeH5Part = false;
     // A USD stage of the run (run.usda and its per-frame layers in
     // run_usd/, docs/clients.md), written by `pbf run` at the end of the
     // run, after the surfaces of --mesh; as `pbf export usd RUN_DIR`.
