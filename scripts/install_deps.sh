@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libhwy-dev
-  libopenvdb-dev libtbb-dev libtinyobjloader-dev libboost-iostreams-dev
+  libopenvdb-dev libtbb-dev libtinyobjloader-dev libboost-iostreams-dev zlib1g-dev
   # rigid bodies: contacts and dynamics (double-precision build, bullet-float64.pc)
   libbullet-dev
   # pbf_render (PBF_BUILD_VIEWER): viewer, headless EGL rendering, images, video, viewer test

@@ -1,6 +1,7 @@
 #include "pbf/io/checkpoint.hpp"
 
 #include <fmt/format.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <bit>
@@ -9,8 +10,8 @@
 #include <fstream>
 #include <type_traits>
 
-#include "core/hash.hpp"
 #include "io/binary_stream.hpp"
+#include "io/checkpoint_format.hpp"
 #include "io/checkpoint_particles.hpp"
 #include "pbf/core/version.hpp"
 #include "pbf/io/io.hpp"
@@ -23,7 +24,7 @@ static_assert(std::endian::native == std::endian::little,
               "checkpoints assume a little-endian host");
 
 constexpr char kMagic[8] = {'P', 'B', 'F', 'C', 'K', 'P', 'T', '\n'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 8;
+using detail::kHeaderBytes;
 
 using detail::BinaryReader;
 using detail::BinaryWriter;
@@ -32,15 +33,20 @@ using detail::readParticleArrays;
 using detail::savedBytesPerParticle;
 using detail::writeParticleArrays;
 
-std::string serialize(const Checkpoint& c) {
+}  // namespace
+
+std::string detail::checkpointPrefix(const Checkpoint& c) {
     BinaryWriter w;
     w.value(c.sceneFingerprint);
     w.string(c.pbfVersion);
     w.value<std::int32_t>(c.frame);
     w.value(c.time);
-    const ParticleStore& p = c.particles;
-    w.value<std::uint64_t>(p.nextId());
-    writeParticleArrays(w, p);
+    w.value<std::uint64_t>(c.particles.nextId());
+    return w.bytes();
+}
+
+std::string detail::checkpointSuffix(const Checkpoint& c) {
+    BinaryWriter w;
     w.array(c.emitters);
     w.array(c.bodies);
     const RunTotals& t = c.totals;
@@ -57,7 +63,17 @@ std::string serialize(const Checkpoint& c) {
     return w.bytes();
 }
 
-Checkpoint deserialize(const std::string& payload, const std::string& name) {
+namespace {
+
+std::string serialize(const Checkpoint& c) {
+    BinaryWriter arrays;
+    writeParticleArrays(arrays, c.particles);
+    return detail::checkpointPrefix(c) + arrays.bytes() + detail::checkpointSuffix(c);
+}
+
+}  // namespace
+
+Checkpoint detail::deserializeCheckpoint(const std::string& payload, const std::string& name) {
     BinaryReader r(payload, name);
     Checkpoint c;
     c.sceneFingerprint = r.value<std::uint64_t>("scene fingerprint");
@@ -96,16 +112,16 @@ Checkpoint deserialize(const std::string& payload, const std::string& name) {
     return c;
 }
 
-}  // namespace
-
-Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint) {
-    WorldState state = world.captureState();
+Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint, bool ownPart) {
+    WorldState state = world.captureState(ownPart);
     Checkpoint c;
     c.sceneFingerprint = sceneFingerprint;
     c.pbfVersion = kVersion;
     c.frame = state.frame;
     c.time = state.time;
     c.particles = std::move(state.particles);
+    c.first = state.first;
+    c.total = state.total;
     c.emitters = std::move(state.emitters);
     c.bodies = std::move(state.bodies);
     c.removed = state.removed;
@@ -137,6 +153,8 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
     WorldState state;
     state.particles = c.particles;
     state.particles.predicted = state.particles.position;
+    state.first = c.first;
+    state.total = c.total;
     state.emitters = c.emitters;
     state.bodies = c.bodies;
     state.removed = c.removed;
@@ -145,22 +163,43 @@ void restoreCheckpoint(const Checkpoint& c, World& world, std::uint64_t sceneFin
     world.restoreState(std::move(state));
 }
 
+std::string detail::checkpointHeader(std::uint64_t payloadBytes, std::uint64_t checksum) {
+    std::string header(kMagic, sizeof(kMagic));
+    const std::uint32_t version = kCheckpointFormatVersion, reserved = 0;
+    header.append(reinterpret_cast<const char*>(&version), 4);
+    header.append(reinterpret_cast<const char*>(&reserved), 4);
+    header.append(reinterpret_cast<const char*>(&payloadBytes), 8);
+    header.append(reinterpret_cast<const char*>(&checksum), 8);
+    return header;
+}
+
+std::uint64_t detail::checksum(const void* data, std::uint64_t bytes, std::uint64_t crc) {
+    // zlib's crc32 takes 32-bit lengths: in pieces.
+    const auto* at = static_cast<const Bytef*>(data);
+    for (std::uint64_t done = 0; done < bytes;) {
+        const auto n = static_cast<uInt>(std::min<std::uint64_t>(bytes - done, 1u << 30));
+        crc = ::crc32(uLong(crc), at + done, n);
+        done += n;
+    }
+    return crc;
+}
+
+std::uint64_t detail::combineChecksums(std::uint64_t first, std::uint64_t second,
+                                       std::uint64_t secondBytes) {
+    return ::crc32_combine(uLong(first), uLong(second), z_off_t(secondBytes));
+}
+
 void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkpoint) {
     const std::string payload = serialize(checkpoint);
-    const std::uint64_t size = payload.size();
-    const std::uint64_t hash = detail::fnv1a64(payload);
+    const std::string header =
+        detail::checkpointHeader(payload.size(), detail::checksum(payload.data(), payload.size()));
     writeFileAtomically(path, [&](std::ostream& out) {
-        out.write(kMagic, sizeof(kMagic));
-        const std::uint32_t version = kCheckpointFormatVersion, reserved = 0;
-        out.write(reinterpret_cast<const char*>(&version), 4);
-        out.write(reinterpret_cast<const char*>(&reserved), 4);
-        out.write(reinterpret_cast<const char*>(&size), 8);
-        out.write(reinterpret_cast<const char*>(&hash), 8);
+        out.write(header.data(), static_cast<std::streamsize>(header.size()));
         out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
     });
 }
 
-Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
+detail::CheckpointHeader detail::readCheckpointHeader(std::istream& in, const std::string& name) {
     char header[kHeaderBytes];
     if (!in.read(header, sizeof(header)))
         fail(name, "not a pbf checkpoint (shorter than the checkpoint header)");
@@ -175,7 +214,8 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
         fail(name, fmt::format("checkpoint format version {} was written by an older pbf (this "
                                "pbf reads version {}: 64-bit particle ids since version 5, "
                                "positions in the world's local frame since 6, outlets' counts "
-                               "since 7); its run cannot "
+                               "since 7, a checksum that ranks compute in parts since 8); its "
+                               "run cannot "
                                "be resumed: start it again without --resume",
                                version, kCheckpointFormatVersion));
     if (version != kCheckpointFormatVersion)
@@ -194,11 +234,17 @@ Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
              fmt::format("checkpoint is truncated or has trailing data ({} payload bytes declared, "
                          "{} present)",
                          size, available));
+    return {size, hash};
+}
+
+Checkpoint readCheckpoint(std::istream& in, const std::string& name) {
+    const auto [size, hash] = detail::readCheckpointHeader(in, name);
     std::string payload(static_cast<std::size_t>(size), '\0');
     if (!in.read(payload.data(), static_cast<std::streamsize>(size)))
         fail(name, "cannot read the checkpoint");
-    if (detail::fnv1a64(payload) != hash) fail(name, "checkpoint is corrupt (checksum mismatch)");
-    return deserialize(payload, name);
+    if (detail::checksum(payload.data(), payload.size()) != hash)
+        fail(name, "checkpoint is corrupt (checksum mismatch)");
+    return detail::deserializeCheckpoint(payload, name);
 }
 
 Checkpoint readCheckpoint(const std::filesystem::path& path) {

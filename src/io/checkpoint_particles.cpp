@@ -61,4 +61,18 @@ std::size_t savedBytesPerParticle() {
     return bytes;
 }
 
+std::vector<SavedArray> savedArrays(const ParticleStore& p) {
+    std::vector<SavedArray> arrays;
+    p.forEachField([&](const ParticleFieldInfo& field, const auto& a) {
+        if (field.kind == ParticleFieldKind::Working) return;
+        const bool kept =
+            field.kind != ParticleFieldKind::Optional ||
+            p.kept(static_cast<ParticleField>(&field - ParticleStore::fields().data()));
+        for (const auto* component : componentsOf(a))
+            arrays.push_back({component->empty() ? nullptr : component->data(),
+                              sizeof(ValueType<decltype(component)>), kept});
+    });
+    return arrays;
+}
+
 }  // namespace pbf::detail

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "io/binary_stream.hpp"
 #include "pbf/core/particles.hpp"
@@ -16,5 +17,15 @@ void writeParticleArrays(BinaryWriter& w, const ParticleStore& p);
 void readParticleArrays(BinaryReader& r, ParticleStore& p);
 // Bytes per particle of the arrays, optional fields counted as on.
 std::size_t savedBytesPerParticle();
+
+// The arrays writeParticleArrays writes, in its order: each component's
+// values (null when it holds none), bytes per value, and whether the
+// store keeps it (an optional field that is off is written empty).
+struct SavedArray {
+    const void* data;
+    std::size_t valueBytes;
+    bool kept;
+};
+std::vector<SavedArray> savedArrays(const ParticleStore& p);
 
 }  // namespace pbf::detail

@@ -21,47 +21,11 @@
 
 #ifdef PBF_HAVE_MPI
 #include <mpi.h>
+
+#include "io/ranks_file.hpp"
 #endif
 
 namespace pbf {
-
-#ifdef PBF_HAVE_MPI
-namespace {
-
-using detail::ParticlePlyRecord;
-
-// The MPI error's text.
-std::string mpiError(int code) {
-    char text[MPI_MAX_ERROR_STRING];
-    int length = 0;
-    MPI_Error_string(code, text, &length);
-    return std::string(text, std::size_t(length));
-}
-
-// Throws IoError on every rank when the call failed on any (collective:
-// every rank must get here), naming the file and the first failing rank's reason.
-void agree(int code, const std::filesystem::path& path, const char* what, MPI_Comm comm) {
-    int rank = 0, failed = code == MPI_SUCCESS ? -1 : 0;
-    MPI_Comm_rank(comm, &rank);
-    if (failed == 0) failed = rank;
-    int first = -1;
-    {
-        int mine = failed < 0 ? 1 << 30 : failed, lowest = 0;
-        MPI_Allreduce(&mine, &lowest, 1, MPI_INT, MPI_MIN, comm);
-        first = lowest == 1 << 30 ? -1 : lowest;
-    }
-    if (first < 0) return;
-    std::string reason = first == rank ? mpiError(code) : std::string();
-    int length = int(reason.size());
-    MPI_Bcast(&length, 1, MPI_INT, first, comm);
-    reason.resize(std::size_t(length));
-    MPI_Bcast(reason.data(), length, MPI_CHAR, first, comm);
-    throw IoError(path.string() + ": " + what + " failed on rank " + std::to_string(first) + " (" +
-                  reason + "); every rank must see the output directory");
-}
-
-}  // namespace
-#endif
 
 void writeParticlesPlyFromRanks(const std::filesystem::path& path, const ParticleStore& own) {
     if (distributed::size() == 1) {
@@ -69,6 +33,7 @@ void writeParticlesPlyFromRanks(const std::filesystem::path& path, const Particl
         return;
     }
 #ifdef PBF_HAVE_MPI
+    using detail::ParticlePlyRecord;
     MPI_Comm comm = MPI_COMM_WORLD;
     const int rank = distributed::rank(), ranks = distributed::size();
     // Every id must fit the file's 32 bits: all ranks refuse together.
@@ -110,9 +75,9 @@ void writeParticlesPlyFromRanks(const std::filesystem::path& path, const Particl
     const int exchanged =
         MPI_Alltoallv(out.data(), sendCounts.data(), sendOffsets.data(), vertex, mine.data(),
                       receiveCounts.data(), receiveOffsets.data(), vertex, comm);
+    MPI_Type_free(&vertex);
     std::vector<ParticlePlyRecord>().swap(out);
-    if (exchanged != MPI_SUCCESS) MPI_Type_free(&vertex);
-    agree(exchanged, path, "sending the particles to their id ranges", comm);
+    detail::agreeOnResult(exchanged, path, "sending the particles to their id ranges");
     std::sort(mine.begin(), mine.end(),
               [](const ParticlePlyRecord& a, const ParticlePlyRecord& b) { return a.id < b.id; });
 
@@ -121,48 +86,11 @@ void writeParticlesPlyFromRanks(const std::filesystem::path& path, const Particl
     const std::uint64_t total = distributed::sumOverRanks(mine.size());
     const std::string header =
         detail::plyHeader(detail::kParticlePlyComment, detail::kParticlePlyProperties, total);
-    const std::filesystem::path temporary =
-        path.parent_path() / ("." + path.filename().string() + ".tmp-ranks");
-    MPI_File file;
-    const int opened = MPI_File_open(comm, temporary.c_str(), MPI_MODE_CREATE | MPI_MODE_WRONLY,
-                                     MPI_INFO_NULL, &file);
-    if (opened != MPI_SUCCESS) MPI_Type_free(&vertex);
-    agree(opened, path, "creating the file", comm);
-    int written = MPI_File_set_size(file, 0);  // a temporary a killed run left
-    if (written == MPI_SUCCESS && rank == 0)
-        written = MPI_File_write_at(file, 0, header.data(), int(header.size()), MPI_CHAR,
-                                    MPI_STATUS_IGNORE);
-    // In pieces of at most 2^30 vertices (MPI counts are int); every rank
-    // takes part in each round of the collective write.
-    constexpr std::uint64_t kPiece = std::uint64_t{1} << 30;
-    unsigned long long rounds = (mine.size() + kPiece - 1) / kPiece;
-    MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, comm);
-    for (unsigned long long k = 0; k < rounds; ++k) {
-        const std::uint64_t at = std::min<std::uint64_t>(k * kPiece, mine.size());
-        const std::uint64_t n = std::min<std::uint64_t>(kPiece, mine.size() - at);
-        const auto offset = MPI_Offset(header.size() + (before + at) * sizeof(ParticlePlyRecord));
-        const int code = MPI_File_write_at_all(file, offset, mine.data() + at, int(n), vertex,
-                                               MPI_STATUS_IGNORE);
-        if (written == MPI_SUCCESS) written = code;
-    }
-    if (written == MPI_SUCCESS) written = MPI_File_sync(file);
-    const int closed = MPI_File_close(&file);
-    if (written == MPI_SUCCESS) written = closed;
-    MPI_Type_free(&vertex);
-    try {
-        agree(written, path, "writing (disk full?)", comm);
-    } catch (const IoError&) {
-        if (rank == 0) {
-            std::error_code ignored;
-            std::filesystem::remove(temporary, ignored);
-        }
-        throw;
-    }
-    std::error_code renamed;
-    if (rank == 0) std::filesystem::rename(temporary, path, renamed);
-    if (distributed::anyRank(bool(renamed)))
-        throw IoError(path.string() + ": cannot rename the temporary file into place" +
-                      (renamed ? ": " + renamed.message() : std::string()));
+    detail::RanksFileWriter file(path);
+    if (rank == 0) file.writeAt(0, header.data(), header.size());
+    file.writeAtAll(header.size() + before * sizeof(ParticlePlyRecord), mine.data(),
+                    mine.size() * sizeof(ParticlePlyRecord));
+    file.commit();
 #else
     writeParticlesPly(path, own);
 #endif

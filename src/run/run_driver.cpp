@@ -125,15 +125,6 @@ std::uintmax_t frameBytes(const OutputParams& output, std::size_t particles) {
 constexpr const char* kCollectionName = "particles.pvd";
 constexpr const char* kH5PartIndexName = "particles.h5part";
 
-std::string readFileBytes(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw IoError(file.string() + ": cannot open for reading");
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    if (!in && !in.eof()) throw IoError(file.string() + ": read failed");
-    return bytes.str();
-}
-
 fs::path vtuFileName(int frame) {
     return frameFileName(frame).replace_extension(".vtu");
 }
@@ -176,26 +167,13 @@ void RunDriver::removeStaleTemporaries() const {
 void RunDriver::resumeFromCheckpoint() {
     const fs::path file = dir_ / kCheckpointFileName;
     removeStaleTemporaries();
-    // Rank 0 reads the file and every rank gets its bytes (the output
-    // directory need not be shared); a failure is every rank's failure.
-    std::string bytes;
-    if (writer_) {
-        try {
-            std::error_code ec;
-            if (!fs::exists(file, ec))
-                throw IoError(file.string() +
-                              ": no checkpoint to resume from; run without "
-                              "--resume to start at frame 0");
-            bytes = "1" + readFileBytes(file);
-        } catch (const std::exception& e) {
-            bytes = std::string("0") + e.what();
-        }
-    }
-    bytes = distributed::broadcast(bytes);
-    if (bytes.empty() || bytes[0] != '1')
-        throw IoError(bytes.empty() ? file.string() : bytes.substr(1));
-    std::istringstream stream(bytes.substr(1));
-    Checkpoint checkpoint = readCheckpoint(stream, file.string());
+    // A failure is every rank's failure.
+    std::error_code ec;
+    if (distributed::anyRank(writer_ && !fs::exists(file, ec)))
+        throw IoError(file.string() +
+                      ": no checkpoint to resume from; run without --resume to start at frame 0");
+    // Each rank reads its share of the particles (all of them in one process).
+    Checkpoint checkpoint = readCheckpointFromRanks(file);
     restoreCheckpoint(checkpoint, world_, scene_.fingerprint, file.string());
     totals_ = std::move(checkpoint.totals);
     previousWallSeconds_ = totals_.wallSeconds;
@@ -338,11 +316,12 @@ void RunDriver::restoreCollection() const {
 // The state is captured only here, when a checkpoint is due (not every frame).
 void RunDriver::saveCheckpoint() {
     const OutputTimer timer(summary_.checkpointSeconds);
-    Checkpoint checkpoint = captureCheckpoint(world_, scene_.fingerprint);
+    // Each rank its own part of the particles, written by all at once.
+    Checkpoint checkpoint = captureCheckpoint(world_, scene_.fingerprint, true);
     checkpoint.totals = totals_;
     checkpoint.totals.wallSeconds = wallSeconds();
     const fs::path file = dir_ / kCheckpointFileName;
-    if (writer_) writeCheckpoint(file, checkpoint);
+    writeCheckpointFromRanks(file, checkpoint);
     summary_.checkpoint = file;
     lastCheckpointFrame_ = world_.frame();
     lastCheckpointTime_ = Clock::now();

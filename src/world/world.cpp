@@ -535,9 +535,14 @@ void World::placeDrivenSolids(double time) {
     }
 }
 
-WorldState World::captureState() const {
+WorldState World::captureState(bool ownPart) const {
     WorldState state;
-    backend_->download(state.particles);
+    if (ownPart) {
+        state.first = backend_->downloadPart(state.particles);
+        state.total = backend_->size();
+    } else {
+        backend_->download(state.particles);
+    }
     for (const Emitter& e : emitters_) state.emitters.push_back(e.state());
     state.bodies = bodies_->states();
     state.removed = removed_;
@@ -559,7 +564,10 @@ void World::restoreState(WorldState state) {
     placeDrivenSolids(state.time);
     bodies_->setStates(std::move(state.bodies), *solids_);
     indexSolids();
-    backend_->upload(std::move(state.particles));
+    if (state.total == 0)
+        backend_->upload(std::move(state.particles));
+    else
+        backend_->uploadPart(std::move(state.particles), state.first, state.total);
     removed_ = state.removed;
     frame_ = state.frame;
     time_ = state.time;

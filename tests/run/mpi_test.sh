@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Distributed runs (docs/distributed.md) against one process, through the CLI:
 #   * the dam break (the fluid crosses the tank: particles migrate between
-#     slabs and the slabs are re-cut) on 2 and 3 ranks writes the same PLY
+#     key ranges and the cuts move) on 2 and 3 ranks writes the same PLY
 #     frames as one process, byte for byte (bit-identical: see
-#     src/backend/mpi/slab_halo.hpp for why that holds), and the same
-#     stats.csv up to the summation order of the reductions;
+#     src/backend/mpi/key_range_halo.hpp for why that holds; all ranks
+#     write each frame at once), and the same stats.csv up to the
+#     summation order of the reductions;
 #   * a scene with an emitter, a solid, XSPH and vorticity confinement
 #     (every halo exchange) on 2 ranks, also over TCP on loopback
 #     (--mca btl tcp,self: the transport two hosts use);
@@ -12,8 +13,10 @@
 #   * a scene 10 km from the origin (the World's local frame), walls
 #     driven by a prescribed motion, and water leaving through outlets, on
 #     2 ranks;
-#   * checkpoints: 2 ranks stop at frame 8, 3 ranks and 1 process resume to
-#     the end: frames equal the uninterrupted one-process run's;
+#   * checkpoints, written by all ranks at once: the dam break's state in
+#     them equals one process's byte for byte; 2 ranks stop at frame 8, 3
+#     ranks and 1 process resume (each rank reading its share) to the end:
+#     frames equal the uninterrupted one-process run's;
 #   * summary.json has "ranks" and "rank_particles" adding up to "particles".
 # Usage: mpi_test.sh PBF WORKDIR SOURCE_DIR MPI_BUILT MPIRUN
 set -euo pipefail
@@ -52,6 +55,27 @@ for ra, rb in zip(a, b):
 PY
 }
 
+# The checkpoints' state (header fields and particle arrays; not the run's
+# totals, which hold wall-clock times) equal, byte for byte: written by all
+# ranks at once, each its part, it must be one process's file.
+same_checkpoint_state() {
+    python3 - "$1/checkpoint.pbfck" "$2/checkpoint.pbfck" <<'PY'
+import struct, sys, zlib
+def state(path):
+    d = open(path, "rb").read()
+    size, crc = struct.unpack_from("<QQ", d, 16)
+    assert len(d) == 32 + size and zlib.crc32(d[32:]) == crc, f"{path}: bad size or CRC-32"
+    at = 32 + 8
+    at += 8 + struct.unpack_from("<Q", d, at)[0] + 4 + 8 + 8  # version, frame, time, next id
+    # position, velocity (3 floats each), density, id (u64), solve acceleration (3 floats)
+    for value_bytes in [4, 4, 4, 4, 4, 4, 4, 8, 4, 4, 4]:
+        at += 8 + struct.unpack_from("<Q", d, at)[0] * value_bytes
+    return d[32:at]
+a, b = state(sys.argv[1]), state(sys.argv[2])
+assert len(a) > 1000 and a == b, f"{len(a)} vs {len(b)} bytes of state"
+PY
+}
+
 check_summary() {
     python3 - "$1/summary.json" "$2" <<'PY'
 import json, sys
@@ -74,8 +98,9 @@ for n in 2 3; do
         { cat "$work/dam$n.log"; fail "dam break on $n ranks failed"; }
     frames=$(same_frames "$work/dam1" "$work/dam$n")
     same_stats "$work/dam1" "$work/dam$n" || fail "stats.csv of $n ranks"
+    same_checkpoint_state "$work/dam1" "$work/dam$n" || fail "checkpoint of $n ranks"
     check_summary "$work/dam$n" $n || fail "summary.json of $n ranks"
-    echo "dam break, $n ranks: $frames frames bit-identical to one process"
+    echo "dam break, $n ranks: $frames frames and the checkpoint bit-identical to one process"
 done
 # The front must have crossed the tank (else nothing migrated).
 python3 - "$work/dam1/frame_00018.ply" <<'PY' || fail "the dam break front did not cross the tank"

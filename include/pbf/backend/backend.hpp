@@ -166,9 +166,14 @@ class Backend {
     virtual void download(ParticleStore& out) const = 0;
     // Replaces the state (a checkpoint being restored, host edits).
     virtual void upload(ParticleStore state) = 0;
-    // A copy of this process's particles: a distributed backend's rank gives
-    // its own (without a gather), one process all of them (download()).
-    virtual void downloadPart(ParticleStore& out) const { download(out); }
+    // A copy of this process's part of the state in memory order (collective
+    // for a distributed backend: each rank its own, no gather), and the
+    // part's first place in that order: the parts of the ranks in rank order
+    // are download()'s store. One process: all of it (download(), first 0).
+    virtual std::uint64_t downloadPart(ParticleStore& out) const {
+        download(out);
+        return 0;
+    }
     // Replaces the state, each process giving its part (collective for a
     // distributed backend): `part` holds entries [first, first + part.size())
     // of a memory order of `total` particles, the parts of the processes in

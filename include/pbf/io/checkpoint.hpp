@@ -19,7 +19,8 @@
 //   u32      format version
 //   u32      0 (reserved)
 //   u64      payload size in bytes
-//   u64      FNV-1a 64 hash of the payload
+//   u64      CRC-32 of the payload (zlib's crc32; the ranks of a distributed
+//            run compute it in parts and combine them, crc32_combine)
 //   payload  fields in the order of Checkpoint below; strings and arrays are
 //            prefixed with their u64 length
 // A truncated, corrupt or foreign file is refused with an IoError naming it.
@@ -41,8 +42,9 @@ class World;
 // 2: emitters, inside_solid; 3: rigid bodies and bodies.csv; 4: warm start;
 // 5: 64-bit particle ids and next id; 6: positions in the World's local
 // frame (pbf/world/local_frame.hpp; older versions are refused by name);
-// 7: the count of particles outlets removed
-inline constexpr std::uint32_t kCheckpointFormatVersion = 7;
+// 7: the count of particles outlets removed; 8: the CRC-32 checksum in place
+// of FNV-1a (written by all ranks at once: checkpoint_ranks)
+inline constexpr std::uint32_t kCheckpointFormatVersion = 8;
 inline constexpr const char* kCheckpointFileName = "checkpoint.pbfck";
 
 // Totals of a run so far (what runScene needs to continue its summary and
@@ -65,14 +67,21 @@ struct Checkpoint {
     int frame = 0;
     double time = 0.0;
     ParticleStore particles;             // memory order; `predicted` is not stored
+    // A distributed rank's part (captureCheckpoint(..., true),
+    // readCheckpointFromRanks): `particles` are the places [first, first +
+    // size) of all `total`. total 0: `particles` are all of them.
+    std::uint64_t first = 0;
+    std::uint64_t total = 0;
     std::vector<EmitterState> emitters;  // one per emitter of the scene
     std::vector<RigidBodyState> bodies;  // one per rigid body of the scene
     std::uint64_t removed = 0;           // particles the outlets removed so far
     RunTotals totals;
 };
 
-// The world's state (totals left empty), for the scene with this fingerprint.
-Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint);
+// The world's state (totals left empty), for the scene with this fingerprint;
+// ownPart: a distributed rank's part of the particles (collective).
+Checkpoint captureCheckpoint(const World& world, std::uint64_t sceneFingerprint,
+                             bool ownPart = false);
 // Puts a checkpoint's state into `world`. Throws IoError when the checkpoint
 // was written for another scene (fingerprint) or by another pbf version;
 // `name` (the file) is used in the messages.
@@ -85,6 +94,21 @@ void writeCheckpoint(const std::filesystem::path& path, const Checkpoint& checkp
 Checkpoint readCheckpoint(const std::filesystem::path& path);
 // Reads a checkpoint from a stream; `name` is used in error messages.
 Checkpoint readCheckpoint(std::istream& in, const std::string& name);
+
+// The same file written by all ranks of a distributed run at once
+// (collective, pbf/core/distributed.hpp): each rank gives its part of the
+// particles (captureCheckpoint(..., true)) and writes it into the arrays
+// with MPI-IO; rank 0 writes the rest from its `checkpoint` and the
+// checksum the ranks' parts combine to. The bytes are those writeCheckpoint
+// writes for all the particles. One process: writeCheckpoint. Throws
+// IoError on every rank.
+void writeCheckpointFromRanks(const std::filesystem::path& path, const Checkpoint& checkpoint);
+// Reads a checkpoint on all ranks at once (collective): rank r gets the
+// places [r N / R, (r + 1) N / R) of the N particles (first, total set),
+// every rank the rest; the checksum is checked over the whole file. Any
+// rank count reads any file. Throws IoError on every rank. One process:
+// readCheckpoint.
+Checkpoint readCheckpointFromRanks(const std::filesystem::path& path);
 
 // Bytes a checkpoint of `particles` particles and `csvBytes` of stats takes.
 std::uintmax_t checkpointBytes(std::size_t particles, std::size_t csvBytes);

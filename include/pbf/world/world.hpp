@@ -91,6 +91,11 @@ struct FrameResult {
 // World's local frame: a far world's are not rounded to world floats.
 struct WorldState {
     ParticleStore particles;             // the backend's memory order
+    // A distributed rank's part (World::captureState(true)): `particles` are
+    // the places [first, first + size) of the memory order of `total`
+    // particles. total 0: `particles` are all of them.
+    std::uint64_t first = 0;
+    std::uint64_t total = 0;
     std::vector<EmitterState> emitters;  // one per emitter of the definition
     std::vector<RigidBodyState> bodies;  // one per rigid body of the definition
     std::uint64_t removed = 0;           // particles the outlets removed so far
@@ -211,7 +216,9 @@ class World {
     // their memory order: the solver's stable sort depends on it, so
     // resuming bit-identically needs the exact order; positions in the local
     // frame).
-    WorldState captureState() const;
+    // ownPart: in a distributed run, this rank's part of the particles only
+    // (collective; no gather), which restoreState() takes back on any rank count.
+    WorldState captureState(bool ownPart = false) const;
     void restoreState(WorldState state);
 
     const SolverConstants& constants() const { return constants_; }

@@ -70,21 +70,43 @@ class MpiBackend final : public Backend {
     }
 
     // Each rank removes its own particles in the outlets; the rest keep
-    // their keys, so the one-process order (a stable compaction) holds.
+    // their order (a stable compaction, as one process's), and their keys
+    // close the gaps: a key drops by the removed particles with smaller keys
+    // on every rank, so the keys stay the places [0, total) of one order.
     std::size_t removeInside(std::span<const OutletRegion> outlets) override {
         if (outlets.empty()) return 0;
-        unsigned long long mine = 0, removed = 0;
+        std::vector<std::uint64_t> gone;
         if (const auto kept = detail::particlesOutside(store_, outlets)) {
-            mine = store_.size() - kept->size();
-            for (std::size_t j = 0; j < kept->size(); ++j) keys_[j] = keys_[(*kept)[j]];
+            std::size_t next = 0;
+            for (std::size_t i = 0; i < store_.size(); ++i) {
+                if (next < kept->size() && (*kept)[next] == i)
+                    keys_[next++] = keys_[i];
+                else
+                    gone.push_back(keys_[i]);
+            }
             keys_.resize(kept->size());
             store_.keepOnly(*kept);
         }
-        checkMpi(MPI_Allreduce(&mine, &removed, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_),
-                 "MPI_Allreduce (removed particles)");
-        total_ -= removed;
+        int mine = int(gone.size());
+        std::vector<int> counts(static_cast<std::size_t>(ranks_)),
+            offsets(static_cast<std::size_t>(ranks_), 0);
+        checkMpi(MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_),
+                 "MPI_Allgather (removed particles)");
+        for (int r = 1; r < ranks_; ++r)
+            offsets[std::size_t(r)] = offsets[std::size_t(r - 1)] + counts[std::size_t(r - 1)];
+        std::vector<std::uint64_t> removed(std::size_t(offsets.back() + counts.back()));
+        checkMpi(MPI_Allgatherv(gone.data(), mine, MPI_UINT64_T, removed.data(), counts.data(),
+                                offsets.data(), MPI_UINT64_T, comm_),
+                 "MPI_Allgatherv (removed particles)");
+        if (removed.empty()) return 0;
+        std::sort(removed.begin(), removed.end());
+        for (std::uint64_t& key : keys_)
+            key -= std::uint64_t(std::lower_bound(removed.begin(), removed.end(), key) -
+                                 removed.begin());
+        total_ -= removed.size();
+        nextKey_ = total_;
         updateOffset();
-        return std::size_t(removed);
+        return removed.size();
     }
 
     void driveInside(std::span<const InletBuffer> buffers) override {
@@ -125,7 +147,7 @@ class MpiBackend final : public Backend {
     std::optional<BadParticle> findBadParticle(double speedLimit) const override {
         const std::optional<BadParticle> mine = pbf::findBadParticle(store_, speedLimit);
         int has = mine ? 1 : 0;
-        std::vector<int> all(std::size_t(ranks_), 0);
+        std::vector<int> all(static_cast<std::size_t>(ranks_), 0);
         checkMpi(MPI_Allgather(&has, 1, MPI_INT, all.data(), 1, MPI_INT, comm_),
                  "MPI_Allgather (state guard)");
         const auto first = std::find(all.begin(), all.end(), 1);
@@ -212,8 +234,65 @@ class MpiBackend final : public Backend {
         out = std::move(result);
     }
 
-    // Between steps a rank holds only its own particles (the ghosts are dropped).
-    void downloadPart(ParticleStore& out) const override { out = store_; }
+    // Rank r's part of the one-process memory order: the places [offset r,
+    // offset r + n r). After a step a rank holds exactly those (its keys);
+    // before the first step, or after particles were added or removed, the
+    // particles go to the rank whose places hold their keys (the keys are
+    // the places [0, total) of one order), sorted there.
+    std::uint64_t downloadPart(ParticleStore& out) const override {
+        bool inPlace = true;
+        for (std::size_t i = 0; i < keys_.size() && inPlace; ++i) inPlace = keys_[i] == offset_ + i;
+        int moving = inPlace ? 0 : 1;
+        checkMpi(MPI_Allreduce(MPI_IN_PLACE, &moving, 1, MPI_INT, MPI_MAX, comm_),
+                 "MPI_Allreduce (particle order)");
+        if (!moving) {
+            out = store_;
+            return offset_;
+        }
+        unsigned long long first = offset_;
+        std::vector<unsigned long long> firsts(static_cast<std::size_t>(ranks_));
+        checkMpi(MPI_Allgather(&first, 1, MPI_UNSIGNED_LONG_LONG, firsts.data(), 1,
+                               MPI_UNSIGNED_LONG_LONG, comm_),
+                 "MPI_Allgather (particle offsets)");
+        std::vector<int> sendCounts(static_cast<std::size_t>(ranks_), 0),
+            receiveCounts(static_cast<std::size_t>(ranks_)),
+            sendOffsets(static_cast<std::size_t>(ranks_), 0),
+            receiveOffsets(static_cast<std::size_t>(ranks_), 0);
+        std::vector<int> owner(store_.size());
+        for (std::size_t i = 0; i < store_.size(); ++i) {
+            owner[i] =
+                int(std::upper_bound(firsts.begin(), firsts.end(), keys_[i]) - firsts.begin()) - 1;
+            ++sendCounts[std::size_t(owner[i])];
+        }
+        for (int r = 1; r < ranks_; ++r)
+            sendOffsets[std::size_t(r)] =
+                sendOffsets[std::size_t(r - 1)] + sendCounts[std::size_t(r - 1)];
+        std::vector<ParticleRecord> records(store_.size());
+        {
+            std::vector<int> fill = sendOffsets;
+            for (std::size_t i = 0; i < store_.size(); ++i)
+                records[std::size_t(fill[std::size_t(owner[i])]++)] = recordOf(store_, i, keys_[i]);
+        }
+        checkMpi(
+            MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receiveCounts.data(), 1, MPI_INT, comm_),
+            "MPI_Alltoall (particle order)");
+        for (int r = 1; r < ranks_; ++r)
+            receiveOffsets[std::size_t(r)] =
+                receiveOffsets[std::size_t(r - 1)] + receiveCounts[std::size_t(r - 1)];
+        std::vector<ParticleRecord> part(std::size_t(receiveOffsets.back() + receiveCounts.back()));
+        checkMpi(MPI_Alltoallv(records.data(), sendCounts.data(), sendOffsets.data(),
+                               halo_.recordType(), part.data(), receiveCounts.data(),
+                               receiveOffsets.data(), halo_.recordType(), comm_),
+                 "MPI_Alltoallv (particle order)");
+        std::sort(part.begin(), part.end(),
+                  [](const ParticleRecord& a, const ParticleRecord& b) { return a.key < b.key; });
+        out = ParticleStore();
+        out.keepOptionalFields(store_.keptOptionalFields());
+        out.resize(part.size());
+        for (std::size_t k = 0; k < part.size(); ++k) setFromRecord(out, k, part[k]);
+        out.setNextId(store_.nextId());
+        return offset_;
+    }
 
     // Rank 0's state (the other ranks' arguments are ignored) is cut into
     // key ranges: rank 0 gives it all as its part.
