@@ -152,6 +152,17 @@ double maxOverRanks(double value) {
     return value;
 }
 
+std::vector<double> valuesOfRanks(double value) {
+#ifdef PBF_HAVE_MPI
+    if (started) {
+        std::vector<double> all(static_cast<std::size_t>(size()));
+        MPI_Allgather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, MPI_COMM_WORLD);
+        return all;
+    }
+#endif
+    return {value};
+}
+
 std::uint64_t sumOverRanks(std::uint64_t value) {
 #ifdef PBF_HAVE_MPI
     if (started) {

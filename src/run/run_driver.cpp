@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -43,7 +44,8 @@ nlohmann::json bodiesJson(const World& world) {
 }
 
 void writeSummary(const std::filesystem::path& file, const Scene& scene, const World& world,
-                  const RunSummary& s, const std::vector<std::size_t>& rankParticles) {
+                  const RunSummary& s, const std::vector<std::size_t>& rankParticles,
+                  const std::vector<double>& rankPeakBytes) {
     const BackendKind backend = world.backend().kind();
     nlohmann::json j;
     j["pbf_version"] = kVersion;
@@ -79,6 +81,9 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     // particles at the end (1 and [particles] in one process).
     j["ranks"] = rankParticles.size();
     j["rank_particles"] = rankParticles;
+    std::vector<double> peakMiB;
+    for (double bytes : rankPeakBytes) peakMiB.push_back(std::round(bytes / (1 << 20)));
+    j["rank_peak_memory_mib"] = peakMiB;
     if (world.bodyCount() > 0) j["bodies"] = bodiesJson(world);
     if (s.error) j["error"] = s.error->message;
     writeFileAtomically(file, [&](std::ostream& out) {
@@ -408,7 +413,8 @@ RunSummary RunDriver::finish() {
             ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
             : 0.0;
     const std::vector<std::size_t> rankParticles = world_.backend().particlesPerRank();
-    if (writer_) writeSummary(dir_ / "summary.json", scene_, world_, s, rankParticles);
+    const std::vector<double> rankPeakBytes = distributed::valuesOfRanks(double(peakResidentBytes()));
+    if (writer_) writeSummary(dir_ / "summary.json", scene_, world_, s, rankParticles, rankPeakBytes);
     return s;
 }
 

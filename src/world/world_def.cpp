@@ -3,6 +3,7 @@
 #include "pbf/world/world_def.hpp"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -441,6 +442,12 @@ std::size_t availableMemoryBytes() {
     const long pages = ::sysconf(_SC_AVPHYS_PAGES);
     const long pageSize = ::sysconf(_SC_PAGESIZE);
     return pages > 0 && pageSize > 0 ? std::size_t(pages) * std::size_t(pageSize) : 0;
+}
+
+std::size_t peakResidentBytes() {
+    struct rusage usage {};
+    if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+    return std::size_t(usage.ru_maxrss) * 1024;  // KiB on Linux
 }
 
 double speedLimit(const WorldDef& def) {

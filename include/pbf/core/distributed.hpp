@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace pbf::distributed {
 
@@ -44,6 +45,8 @@ std::string broadcast(const std::string& text);
 bool anyRank(bool value);
 // The largest `value` over ranks (every rank gets it).
 double maxOverRanks(double value);
+// Every rank's `value`, in rank order, on every rank (one entry in one process).
+std::vector<double> valuesOfRanks(double value);
 // The sum of `value` over all ranks, and over the ranks before this one
 // (0 on rank 0); every rank gets its answer.
 std::uint64_t sumOverRanks(std::uint64_t value);

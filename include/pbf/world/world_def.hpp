@@ -135,6 +135,8 @@ void checkDeviceMemory(const WorldDef& def, BackendKind device, const std::strin
                        std::size_t availableBytes);
 // Memory the machine can give now (MemAvailable), bytes; 0 when unknown.
 std::size_t availableMemoryBytes();
+// The most memory this process has held resident so far, bytes.
+std::size_t peakResidentBytes();
 std::size_t estimatedBytesPerParticle(const SimulationParams& params);
 
 // The speed limit of a world, m/s: guard.max_speed when set (> 0), else
