@@ -48,20 +48,16 @@ void writeParticlesPlyFromRanks(const std::filesystem::path& path, const Particl
     const auto owner = [range](std::uint32_t id) { return int(id / range); };
     std::vector<int> sendCounts(std::size_t(ranks), 0), receiveCounts(std::size_t(ranks), 0),
         sendOffsets(std::size_t(ranks), 0), receiveOffsets(std::size_t(ranks), 0);
-    std::vector<ParticlePlyRecord> out(own.size());
-    for (std::size_t i = 0; i < own.size(); ++i) {
-        out[i] = detail::particlePlyRecord(own, i, path);
-        ++sendCounts[std::size_t(owner(out[i].id))];
-    }
+    for (std::uint64_t id : own.id) ++sendCounts[std::size_t(owner(std::uint32_t(id)))];
     for (int r = 1; r < ranks; ++r)
         sendOffsets[std::size_t(r)] =
             sendOffsets[std::size_t(r - 1)] + sendCounts[std::size_t(r - 1)];
+    std::vector<ParticlePlyRecord> out(own.size());
     {
-        std::vector<ParticlePlyRecord> byOwner(out.size());
         std::vector<int> fill = sendOffsets;
-        for (const ParticlePlyRecord& v : out)
-            byOwner[std::size_t(fill[std::size_t(owner(v.id))]++)] = v;
-        out.swap(byOwner);
+        for (std::size_t i = 0; i < own.size(); ++i)
+            out[std::size_t(fill[std::size_t(owner(std::uint32_t(own.id[i])))]++)] =
+                detail::particlePlyRecord(own, i, path);
     }
     MPI_Datatype vertex;
     MPI_Type_contiguous(int(sizeof(ParticlePlyRecord)), MPI_BYTE, &vertex);

@@ -44,7 +44,7 @@ nlohmann::json bodiesJson(const World& world) {
 }
 
 void writeSummary(const std::filesystem::path& file, const Scene& scene, const World& world,
-                  const RunSummary& s, const std::vector<std::size_t>& rankParticles,
+                  const RunSummary& s, const std::vector<RankFigures>& ranks,
                   const std::vector<double>& rankPeakBytes) {
     const BackendKind backend = world.backend().kind();
     nlohmann::json j;
@@ -79,10 +79,21 @@ void writeSummary(const std::filesystem::path& file, const Scene& scene, const W
     j["backend"] = std::string(backendName(backend));
     // Distributed runs (docs/distributed.md): processes and each one's
     // particles at the end (1 and [particles] in one process).
-    j["ranks"] = rankParticles.size();
-    j["rank_particles"] = rankParticles;
+    // Each rank's share (the last step's ghosts, peers and bytes sent).
+    j["ranks"] = ranks.size();
+    std::vector<std::uint64_t> particles, ghosts, peers, bytes;
+    for (const RankFigures& r : ranks) {
+        particles.push_back(r.particles);
+        ghosts.push_back(r.ghosts);
+        peers.push_back(r.peers);
+        bytes.push_back(r.bytesSent);
+    }
+    j["rank_particles"] = particles;
+    j["rank_ghosts"] = ghosts;
+    j["rank_peers"] = peers;
+    j["rank_bytes_sent_per_substep"] = bytes;
     std::vector<double> peakMiB;
-    for (double bytes : rankPeakBytes) peakMiB.push_back(std::round(bytes / (1 << 20)));
+    for (double peak : rankPeakBytes) peakMiB.push_back(std::round(peak / (1 << 20)));
     j["rank_peak_memory_mib"] = peakMiB;
     if (world.bodyCount() > 0) j["bodies"] = bodiesJson(world);
     if (s.error) j["error"] = s.error->message;
@@ -412,9 +423,9 @@ RunSummary RunDriver::finish() {
         totals_.solverMilliseconds > 0.0
             ? double(s.particles) * double(s.substeps) / (totals_.solverMilliseconds * 1e-3)
             : 0.0;
-    const std::vector<std::size_t> rankParticles = world_.backend().particlesPerRank();
+    const std::vector<RankFigures> rankFigures = world_.backend().rankFigures();
     const std::vector<double> rankPeakBytes = distributed::valuesOfRanks(double(peakResidentBytes()));
-    if (writer_) writeSummary(dir_ / "summary.json", scene_, world_, s, rankParticles, rankPeakBytes);
+    if (writer_) writeSummary(dir_ / "summary.json", scene_, world_, s, rankFigures, rankPeakBytes);
     return s;
 }
 

@@ -213,6 +213,7 @@ FrameResult World::stepFrame() {
     try {
         applyHostEdits();
         downloadedValid_ = ownValid_ = false;
+        ownDownloaded_ = ParticleStore();  // a rank's copy is not kept through the steps
         const SolverParams& s = settings_.solver;
         const double frameDt = frameDuration();
         FrameReport& report = result.report;

@@ -10,6 +10,7 @@
 #     (every halo exchange) on 2 ranks, also over TCP on loopback
 #     (--mca btl tcp,self: the transport two hosts use);
 #   * surface tension with adhesion (walls and a solid) on 2 ranks;
+#   * a cube of water on 8 ranks: compact ranges (ghosts / owned <= 0.35);
 #   * a scene 10 km from the origin (the World's local frame), walls
 #     driven by a prescribed motion, and water leaving through outlets, on
 #     2 ranks;
@@ -151,6 +152,26 @@ for n in 2 4; do
     frames=$(same_frames "$work/basin1" "$work/basin$n")
     echo "sparse basin, $n ranks: $frames frames bit-identical"
 done
+
+# A cube of water, 64 particles a side, filling a cubic tank, on 8 ranks
+# (oversubscribed): the same frames as one process, and compact ranges: the
+# largest ghosts / owned over the ranks at most 0.35 (slabs of the cube give
+# 0.5, perfect octants 0.2).
+cube=(run "$src/tests/data/mpi_cube.json" -q --no-plot --render none --checkpoint-every 0
+      --checkpoint-seconds 0)
+"$pbf" "${cube[@]}" --out "$work/cube1" > /dev/null
+"${mpi[@]}" -np 8 "$pbf" "${cube[@]}" --out "$work/cube8" > "$work/cube8.log" 2>&1 ||
+    { cat "$work/cube8.log"; fail "cube on 8 ranks failed"; }
+frames=$(same_frames "$work/cube1" "$work/cube8")
+ratio=$(python3 - "$work/cube8/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+ratios = [g / n for g, n in zip(s["rank_ghosts"], s["rank_particles"])]
+assert len(ratios) == 8 and max(ratios) <= 0.35, ratios
+print(f"{max(ratios):.3f} (octants 0.2, slabs 0.5)")
+PY
+) || fail "cube on 8 ranks: the ranges are not compact"
+echo "cube on 8 ranks: $frames frames bit-identical, largest ghosts / owned $ratio"
 
 # 10 km from the origin (every rank measures from the same local frame):
 # the dam break against a solid (no rigid bodies: their forces are summed

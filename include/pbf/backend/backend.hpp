@@ -125,6 +125,14 @@ struct BackendDiagnostics {
     double compactListShare = 0.0;      // blocks with 16-bit neighbour lists, of all
 };
 
+// One process's share of a distributed run, after the last step.
+struct RankFigures {
+    std::uint64_t particles = 0;  // its own
+    std::uint64_t ghosts = 0;     // copies of other ranks' particles next to its own
+    std::uint64_t peers = 0;      // ranks it exchanged ghosts with
+    std::uint64_t bytesSent = 0;  // in the step: migrants, ghosts and the ghosts' values
+};
+
 class Backend {
   public:
     virtual ~Backend() = default;
@@ -189,9 +197,9 @@ class Backend {
     }
 
     virtual BackendDiagnostics diagnostics() const = 0;
-    // Particles held by each process of a distributed backend, in rank
-    // order (collective there); one entry otherwise.
-    virtual std::vector<std::size_t> particlesPerRank() const { return {size()}; }
+    // Each process's figures, in rank order (collective there); one entry
+    // (no ghosts) otherwise.
+    virtual std::vector<RankFigures> rankFigures() const { return {{size(), 0, 0, 0}}; }
 };
 
 // Options that only tests and benchmarks change.

@@ -41,7 +41,6 @@ KeyRangeHalo::KeyRangeHalo(MPI_Comm comm, const NeighborSearch& search)
     for (auto* v : {&sendCounts_, &receiveCounts_, &sendOffsets_, &receiveOffsets_, &sendBytes_,
                     &receiveBytes_, &sendByteOffsets_, &receiveByteOffsets_})
         v->resize(ranks);
-    ghostsTo_.resize(ranks);
     sendIndex_.resize(ranks);
     receiveIndex_.resize(ranks);
 }
@@ -252,6 +251,8 @@ std::size_t KeyRangeHalo::exchangeRecords(std::size_t storeSize, const char* wha
     }
     const std::size_t before = incoming_.size();
     incoming_.resize(before + std::size_t(arriving));
+    for (int r = 0; r < ranks_; ++r)
+        bytesSent_ += std::uint64_t(sendCounts_[std::size_t(r)]) * sizeof(ParticleRecord);
     checkMpi(MPI_Alltoallv(outgoing_.data(), sendCounts_.data(), sendOffsets_.data(), recordType_,
                            incoming_.data() + before, receiveCounts_.data(), receiveOffsets_.data(),
                            recordType_, comm_),
@@ -267,20 +268,27 @@ std::size_t KeyRangeHalo::exchangeRecords(std::size_t storeSize, const char* wha
     return std::size_t(arriving);
 }
 
-// The store rebuilt from entries_, in key order.
+// The store rebuilt from entries_, in key order, in place (no second copy
+// of the store): the staying particles (in store order among the entries)
+// move to the front, then the entries are placed from the back, where an
+// entry's place is never before its staying particle's.
 void KeyRangeHalo::rebuild(ParticleStore& p) {
     const std::size_t n0 = p.size(), n = entries_.size();
-    next_.keepOptionalFields(p.keptOptionalFields());
-    next_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
+    std::size_t stays = 0;
+    for (const Entry& e : entries_)
+        if (e.source < n0) {
+            if (stays != e.source) p.copyParticle(stays, p, e.source);
+            ++stays;
+        }
+    p.resize(n);
+    for (std::size_t k = n, j = stays; k-- > 0;) {
         const Entry& e = entries_[k];
-        if (e.source < n0)
-            next_.copyParticle(k, p, e.source);
-        else
-            setFromRecord(next_, k, incoming_[e.source - n0]);
+        if (e.source < n0) {
+            if (--j != k) p.copyParticle(k, p, j);
+        } else {
+            setFromRecord(p, k, incoming_[e.source - n0]);
+        }
     }
-    next_.setNextId(p.nextId());
-    std::swap(p, next_);
 }
 
 void KeyRangeHalo::migrate(ParticleStore& p, std::vector<std::uint64_t>& keys) {
@@ -294,6 +302,13 @@ void KeyRangeHalo::migrate(ParticleStore& p, std::vector<std::uint64_t>& keys) {
     for (std::size_t k = 0; k < entries_.size(); ++k) keys[k] = entries_[k].key;
 }
 
+void KeyRangeHalo::releaseScratch() {
+    std::vector<std::uint64_t>().swap(cellKeys_);
+    std::vector<Entry>().swap(entries_);
+    std::vector<ParticleRecord>().swap(outgoing_);
+    std::vector<ParticleRecord>().swap(incoming_);
+}
+
 void KeyRangeHalo::distribute(ParticleStore& p) {
     const std::size_t n0 = p.size();
     if (!keys_ || keys_->size() != n0)
@@ -301,25 +316,34 @@ void KeyRangeHalo::distribute(ParticleStore& p) {
     cellKeys_.resize(n0);
     for (std::size_t i = 0; i < n0; ++i) cellKeys_[i] = search_.keyOf(p.predicted.get(i));
     rebalance(cellKeys_);
+    bytesSent_ = 0;
     migrateEntries(p, *keys_);
 
     // Ghosts: each owned particle whose cell has a neighbour cell another
-    // rank owns goes to that rank (in key order per destination).
-    for (auto& g : ghostsTo_) g.clear();
-    for (const Entry& e : entries_) {
-        const bool here = e.source < n0;
-        const std::uint64_t cellKey = here ? cellKeys_[e.source]
-                                           : search_.keyOf(predictedOf(incoming_[e.source - n0]));
-        for (int r : peersOf(cellKey))
-            ghostsTo_[std::size_t(r)].push_back(here ? recordOf(p, e.source, e.key)
-                                                     : incoming_[e.source - n0]);
+    // rank owns goes to that rank (in key order per destination): the
+    // (entry, rank) pairs first, then the records grouped by rank.
+    ghostPairs_.clear();
+    std::fill(sendCounts_.begin(), sendCounts_.end(), 0);
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+        const Entry& e = entries_[k];
+        const std::uint64_t cellKey = e.source < n0
+                                          ? cellKeys_[e.source]
+                                          : search_.keyOf(predictedOf(incoming_[e.source - n0]));
+        for (int r : peersOf(cellKey)) {
+            ghostPairs_.push_back({std::uint32_t(k), r});
+            ++sendCounts_[std::size_t(r)];
+        }
     }
-    outgoing_.clear();
-    for (int r = 0; r < ranks_; ++r) {
-        sendOffsets_[std::size_t(r)] = int(outgoing_.size());
-        sendCounts_[std::size_t(r)] = int(ghostsTo_[std::size_t(r)].size());
-        outgoing_.insert(outgoing_.end(), ghostsTo_[std::size_t(r)].begin(),
-                         ghostsTo_[std::size_t(r)].end());
+    for (int r = 0, at = 0; r < ranks_; at += sendCounts_[std::size_t(r++)])
+        sendOffsets_[std::size_t(r)] = at;
+    outgoing_.resize(ghostPairs_.size());
+    {
+        std::vector<int> fill = sendOffsets_;
+        for (const auto& [k, r] : ghostPairs_) {
+            const Entry& e = entries_[k];
+            outgoing_[std::size_t(fill[std::size_t(r)]++)] =
+                e.source < n0 ? recordOf(p, e.source, e.key) : incoming_[e.source - n0];
+        }
     }
     ghostsReceived_ = exchangeRecords(n0, "MPI_Alltoallv (ghosts)");
     rebuild(p);
@@ -363,6 +387,7 @@ void KeyRangeHalo::exchangeBytes(T* data, std::size_t bytes) {
         received += receiveBytes_[k];
     }
     sendBuffer_.resize(std::size_t(sent));
+    bytesSent_ += std::uint64_t(sent);
     receiveBuffer_.resize(std::size_t(received));
     std::byte* out = sendBuffer_.data();
     for (const auto& list : sendIndex_)
@@ -399,6 +424,13 @@ void KeyRangeHalo::exchange(Float3Array& values) {
     exchangeBytes(values.x.data(), sizeof(float));
     exchangeBytes(values.y.data(), sizeof(float));
     exchangeBytes(values.z.data(), sizeof(float));
+}
+
+std::uint64_t KeyRangeHalo::peers() const {
+    std::uint64_t n = 0;
+    for (int r = 0; r < ranks_; ++r)
+        if (!sendIndex_[std::size_t(r)].empty() || !receiveIndex_[std::size_t(r)].empty()) ++n;
+    return n;
 }
 
 void KeyRangeHalo::collect(ParticleStore& p) {

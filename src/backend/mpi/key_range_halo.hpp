@@ -40,6 +40,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "backend/cpu/solver.hpp"
@@ -71,6 +72,9 @@ class KeyRangeHalo {
     // and `keys` (its particles' places in a total order, increasing) are
     // replaced by this rank's, in key order.
     void migrate(ParticleStore& p, std::vector<std::uint64_t>& keys);
+    // Frees the per-step scratch (after a migration of all particles, whose
+    // buffers a step's few migrants and ghosts do not need).
+    void releaseScratch();
     long long rebalances() const { return rebalances_; }
 
     // The keys of the store's particles, in store order, increasing (the
@@ -90,6 +94,12 @@ class KeyRangeHalo {
     void sum(std::int64_t* values, int count);
     // End of the step: drops the ghosts.
     void collect(ParticleStore& p);
+
+    // The last step's ghosts, the ranks it exchanged them with, and the bytes
+    // this rank sent in it.
+    std::uint64_t ghosts() const { return ghostsReceived_; }
+    std::uint64_t peers() const;
+    std::uint64_t bytesSent() const { return bytesSent_; }
 
   private:
     struct Entry {
@@ -133,15 +143,15 @@ class KeyRangeHalo {
     std::vector<std::uint64_t> cellKeys_;
     std::vector<Entry> entries_;
     std::vector<ParticleRecord> outgoing_, incoming_;
-    std::vector<std::vector<ParticleRecord>> ghostsTo_;
+    std::vector<std::pair<std::uint32_t, int>> ghostPairs_;  // (entry, rank) of each ghost sent
     std::vector<int> sendCounts_, receiveCounts_, sendOffsets_, receiveOffsets_;
     std::uint64_t peersKey_ = ~std::uint64_t{0};
     std::vector<int> peers_;
-    ParticleStore next_;
     // After the sort: the owned particles [begin_, end_); for each rank, the
     // store indices whose values it gets from this one (sendIndex_) and those
     // this one gets from it (receiveIndex_), both in store order.
     std::size_t begin_ = 0, end_ = 0, ghostsReceived_ = 0;
+    std::uint64_t bytesSent_ = 0;
     std::vector<std::vector<std::uint32_t>> sendIndex_, receiveIndex_;
     std::vector<std::byte> sendBuffer_, receiveBuffer_;
     std::vector<int> sendBytes_, receiveBytes_, sendByteOffsets_, receiveByteOffsets_;

@@ -324,6 +324,7 @@ class MpiBackend final : public Backend {
         std::iota(keys_.begin(), keys_.end(), first);
         halo_.cutFor(part);
         halo_.migrate(part, keys_);
+        halo_.releaseScratch();  // sized for moving every particle
         store_ = std::move(part);
         store_.setNextId(nextId);
         total_ = total;
@@ -342,13 +343,17 @@ class MpiBackend final : public Backend {
         return d;
     }
 
-    std::vector<std::size_t> particlesPerRank() const override {
-        unsigned long long mine = store_.size();
-        std::vector<unsigned long long> all(static_cast<std::size_t>(ranks_));
-        checkMpi(MPI_Allgather(&mine, 1, MPI_UNSIGNED_LONG_LONG, all.data(), 1,
+    std::vector<RankFigures> rankFigures() const override {
+        const unsigned long long mine[4] = {store_.size(), halo_.ghosts(), halo_.peers(),
+                                            halo_.bytesSent()};
+        std::vector<unsigned long long> all(4 * static_cast<std::size_t>(ranks_));
+        checkMpi(MPI_Allgather(mine, 4, MPI_UNSIGNED_LONG_LONG, all.data(), 4,
                                MPI_UNSIGNED_LONG_LONG, comm_),
-                 "MPI_Allgather (particles per rank)");
-        return std::vector<std::size_t>(all.begin(), all.end());
+                 "MPI_Allgather (rank figures)");
+        std::vector<RankFigures> figures;
+        for (std::size_t r = 0; r < static_cast<std::size_t>(ranks_); ++r)
+            figures.push_back({all[4 * r], all[4 * r + 1], all[4 * r + 2], all[4 * r + 3]});
+        return figures;
     }
 
   private:
