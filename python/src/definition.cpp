@@ -505,8 +505,9 @@ void bindWorldDef(py::module_& m) {
         .def(
             "validate", [](const WorldDef& d) { return validate(d); },
             "\"\" when valid, else \"field: problem\" for the first invalid field.")
-        .def("count_particles", &countParticles,
-             "Particles the fluid blocks create (before solids remove any).")
+        .def(
+            "count_particles", [](const WorldDef& d) { return countParticles(d); },
+            "Particles the fluid blocks create (before solids remove any).")
         .def("__repr__", [](const py::object& self) {
             return reprOf(self, "WorldDef",
                           {"name", "simulation", "fluid_blocks", "solids", "rigid_bodies",

@@ -6,8 +6,8 @@
 //
 // The key is a space-filling curve over bricks with rows inside them:
 // bricks of 64 x 32 x 32 cells (x, y, z) in Morton's order (the bricks'
-// coordinates' bits interleaved), and inside a brick rows of 64 cells along
-// x, the 32 x 32 rows in Morton's order over (z, y). These are the key's axes; a frame maps the
+// coordinates' bits interleaved), and inside a brick the cells in rows, x
+// fastest, then z, then y. These are the key's axes; a frame maps the
 // world's onto them (CellFrame::axis; domainFrame puts the domain's
 // shortest side along the rows and its longest slowest). A particle's 26 neighbour cells are then 9
 // runs of 3 cells contiguous in memory, and the rows the solver's passes read move through memory
@@ -22,10 +22,8 @@
 //    cells lie between those of its lowest and highest corners (the
 //    distributed split tests whole neighbourhoods with two keys);
 //  * a brick is one contiguous key range, and Morton's order keeps
-//    neighbouring bricks close, and the rows inside a brick too, so ranges
-//    of keys are compact pieces of space down to blocks of rows (what the
-//    distributed split hands each rank: a range of rows in z-then-y order
-//    would be a slab, whose halo is twice its thickness).
+//    neighbouring bricks close, so ranges of keys are compact pieces of
+//    space (what the distributed split hands each rank).
 // Morton's and Hilbert's codes of single cells are here for the measurement
 // that chose this layout.
 //
@@ -85,36 +83,19 @@ inline constexpr int kRowBits = 6;    // 64 cells along x
 inline constexpr int kBrickBits = 5;  // 32 cells along y and z
 inline constexpr int kInBrickBits = kRowBits + 2 * kBrickBits;
 
-// The 16 low bits of v spread to every second bit (bit k to bit 2k), and back.
-PBF_HD constexpr std::uint32_t spreadBits2(std::uint32_t v) {
-    std::uint32_t x = v & 0xffffu;
-    x = (x | x << 8) & 0x00ff00ffu;
-    x = (x | x << 4) & 0x0f0f0f0fu;
-    x = (x | x << 2) & 0x33333333u;
-    return (x | x << 1) & 0x55555555u;
-}
-PBF_HD constexpr std::uint32_t compactBits2(std::uint32_t v) {
-    std::uint32_t x = v & 0x55555555u;
-    x = (x | x >> 1) & 0x33333333u;
-    x = (x | x >> 2) & 0x0f0f0f0fu;
-    x = (x | x >> 4) & 0x00ff00ffu;
-    return (x | x >> 8) & 0x0000ffffu;
-}
-
 PBF_HD constexpr std::uint64_t cellKey(CellCoords c) {
     constexpr std::uint32_t kRow = (1u << kRowBits) - 1u, kSide = (1u << kBrickBits) - 1u;
     const std::uint64_t brick = mortonKey({c.x >> kRowBits, c.y >> kBrickBits, c.z >> kBrickBits});
-    const std::uint32_t row = spreadBits2(c.z & kSide) | spreadBits2(c.y & kSide) << 1;
-    return brick << kInBrickBits | std::uint64_t(row) << kRowBits | std::uint64_t(c.x & kRow);
+    return brick << kInBrickBits | std::uint64_t(c.y & kSide) << (kRowBits + kBrickBits) |
+           std::uint64_t(c.z & kSide) << kRowBits | std::uint64_t(c.x & kRow);
 }
 
 PBF_HD constexpr CellCoords cellCoords(std::uint64_t key) {
-    constexpr std::uint64_t kRow = (1u << kRowBits) - 1u;
+    constexpr std::uint64_t kRow = (1u << kRowBits) - 1u, kSide = (1u << kBrickBits) - 1u;
     const CellCoords brick = mortonCoords(key >> kInBrickBits);
-    const auto row = std::uint32_t((key >> kRowBits) & ((1u << 2 * kBrickBits) - 1u));
     return {brick.x << kRowBits | std::uint32_t(key & kRow),
-            brick.y << kBrickBits | compactBits2(row >> 1),
-            brick.z << kBrickBits | compactBits2(row)};
+            brick.y << kBrickBits | std::uint32_t((key >> (kRowBits + kBrickBits)) & kSide),
+            brick.z << kBrickBits | std::uint32_t((key >> kRowBits) & kSide)};
 }
 
 // Hilbert's curve by Skilling's transpose ("Programming the Hilbert curve",
@@ -250,9 +231,9 @@ inline bool domainFrame(const Aabb& domain, float cell, CellFrame& frame) {
     std::uint32_t span = 1;
     while (double(span) < widest) span <<= 1;
     // The shortest side along the key's rows, the longest slowest (x of the
-    // key fastest, then z and y, y the higher bit of each pair): a particle's neighbours then lie
-    // within the thinnest slab of memory the domain allows, as they did in the dense grid that
-    // numbered its cells this way. Ties keep the world's order.
+    // key, then z, then y): a particle's neighbours then lie within the
+    // thinnest slab of memory the domain allows, as they did in the dense
+    // grid that numbered its cells this way. Ties keep the world's order.
     std::uint8_t axes[3] = {0, 1, 2};
     for (int i = 1; i < 3; ++i)
         for (int k = i; k > 0 && e[axes[k]] < e[axes[k - 1]]; --k) {
