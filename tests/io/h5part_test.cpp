@@ -13,17 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "support/test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDirectory(const std::string& name) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("pbf_test_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using pbf::test::freshDirectory;
 
 std::vector<std::string> filesIn(const fs::path& dir) {
     std::vector<std::string> names;

@@ -16,18 +16,14 @@
 #include <string>
 #include <vector>
 
+#include "support/test_util.hpp"
+
 namespace pbf {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDirectory(const std::string& name) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("pbf_usd_test_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using pbf::test::freshDirectory;
 
 std::string readText(const fs::path& file) {
     std::ifstream in(file);

@@ -33,13 +33,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDirectory(const std::string& name) {
-    const fs::path dir =
-        fs::temp_directory_path() / ("pbf_test_" + name + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+using pbf::test::freshDirectory;
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);

@@ -2,14 +2,27 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 #include "pbf/io/scene.hpp"
 #include "pbf/world/world.hpp"
 
 namespace pbf::test {
+
+// An empty directory of its own for a test (under the system's temporary
+// directory, named after the test and this process).
+inline std::filesystem::path freshDirectory(const std::string& name) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("pbf_test_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
 
 inline std::string scenePath(const std::string& name) {
     return std::string(PBF_SCENES_DIR) + "/" + name;

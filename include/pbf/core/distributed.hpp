@@ -6,7 +6,9 @@
 // and rigid bodies are replicated: they are small and every rank's fluid
 // touches them) with the distributed backend (BackendKind::Mpi), which
 // gives each rank a range of the cell key (a compact region of space) and
-// exchanges the particles at the ranges' borders. Files are written by rank 0.
+// exchanges the particles at the ranges' borders. Each rank creates its share
+// of the initial particles; the particle frames (PLY, H5Part) and checkpoints
+// are written by all ranks at once, the other files by rank 0.
 //
 // In a build without MPI (PBF_MPI off) or a process not started by an MPI
 // launcher, there is one rank: rank() is 0, size() is 1, and nothing here

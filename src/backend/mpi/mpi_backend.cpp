@@ -1,9 +1,10 @@
 // The distributed backend: each MPI rank runs the CPU backend's solver on
 // its range of cell keys (backend/mpi/key_range_halo.hpp) and answers the World's
 // reductions with global reductions. Scene set-up (solids, emitters, rigid
-// bodies) is replicated on every rank by the World; particle files are
-// written by rank 0 from download(), which gathers the ranges in rank order:
-// the one-process memory order.
+// bodies) is replicated on every rank by the World. Each rank gives its part
+// of the one-process memory order (downloadPart) to the files all ranks
+// write at once (PLY, H5Part, checkpoints); download() gathers the ranges
+// on rank 0 in rank order, the one-process memory order (VTK, pictures).
 #include "backend/mpi/mpi_backend.hpp"
 
 #include <mpi.h>
@@ -199,7 +200,7 @@ class MpiBackend final : public Backend {
     ParticleStore* mutableHostState() override { return nullptr; }
 
     // Gathers the ranges on rank 0 in rank order (the one-process memory
-    // order); the other ranks get no particles (only rank 0 writes files).
+    // order); the other ranks get no particles.
     void download(ParticleStore& out) const override {
         std::vector<ParticleRecord> mine(store_.size());
         for (std::size_t i = 0; i < store_.size(); ++i) mine[i] = recordOf(store_, i, keys_[i]);
