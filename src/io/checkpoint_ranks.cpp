@@ -67,20 +67,6 @@ std::uint64_t combinedChecksum(const std::string& prefix, const std::vector<Save
     return detail::checksum(suffix.data(), suffix.size(), crc);
 }
 
-// Throws IoError on every rank when `error` is set on any (the lowest such
-// rank's message).
-void agreeOnError(const std::string& error) {
-    int first = error.empty() ? distributed::size() : distributed::rank();
-    MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-    if (first == distributed::size()) return;
-    std::string message = error;
-    int length = int(message.size());
-    MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
-    message.resize(std::size_t(length));
-    MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
-    throw IoError(message);
-}
-
 // What rank 0 reads outside the arrays, for every rank.
 struct Layout {
     std::string prefix, suffix;
@@ -255,7 +241,7 @@ Checkpoint readCheckpointFromRanks(const std::filesystem::path& path) {
     } catch (const std::exception& e) {
         error = e.what();
     }
-    agreeOnError(error);
+    detail::agreeOnError(error);
     c.first = first;
     c.total = count;
     return c;

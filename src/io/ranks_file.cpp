@@ -30,18 +30,23 @@ unsigned long long roundsFor(std::uint64_t bytes) {
 
 }  // namespace
 
-void agreeOnResult(int code, const std::filesystem::path& path, const std::string& what) {
-    const int rank = distributed::rank();
-    int first = code == MPI_SUCCESS ? distributed::size() : rank;
+void agreeOnError(const std::string& error) {
+    int first = error.empty() ? distributed::size() : distributed::rank();
     MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
     if (first == distributed::size()) return;
-    std::string reason = first == rank ? mpiErrorText(code) : std::string();
-    int length = int(reason.size());
+    std::string message = error;
+    int length = int(message.size());
     MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
-    reason.resize(std::size_t(length));
-    MPI_Bcast(reason.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
-    throw IoError(path.string() + ": " + what + " failed on rank " + std::to_string(first) + " (" +
-                  reason + ")");
+    message.resize(std::size_t(length));
+    MPI_Bcast(message.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+    throw IoError(message);
+}
+
+void agreeOnResult(int code, const std::filesystem::path& path, const std::string& what) {
+    agreeOnError(code == MPI_SUCCESS
+                     ? std::string()
+                     : path.string() + ": " + what + " failed on rank " +
+                           std::to_string(distributed::rank()) + " (" + mpiErrorText(code) + ")");
 }
 
 RanksFileWriter::RanksFileWriter(std::filesystem::path path)

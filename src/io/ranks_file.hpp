@@ -20,6 +20,9 @@
 
 namespace pbf::detail {
 
+// Collective: throws IoError on every rank when `error` is not empty on any,
+// with the lowest such rank's `error` as the message.
+void agreeOnError(const std::string& error);
 // Collective: throws IoError on every rank when `code` is not MPI_SUCCESS on
 // any, "<path>: <what> failed on rank R (<reason>)".
 void agreeOnResult(int code, const std::filesystem::path& path, const std::string& what);
